@@ -1,0 +1,43 @@
+"""python -m codegen [--out DIR]: regenerate mjcffi's generated files.
+
+Reads the headers of the installed mujoco-core wheel.  Run by maintainers;
+the output is committed, and a test fails when it drifts.
+"""
+
+import argparse
+import pathlib
+
+from . import comments, extents, headers, outputs, parse
+
+REPO = pathlib.Path(__file__).resolve().parent.parent
+
+
+def generate():
+    """Relative path -> text of every generated file."""
+    text = headers.mujoco_declarations()
+    decls = parse.parse(text)
+    header_texts = headers.header_texts()
+    notes = comments.read(header_texts)
+    return {
+        "mjcffi/_cdef.h": outputs.cdef(text),
+        "mjcffi/_enums.py": outputs.enums(decls),
+        "mjcffi/_constants.py": outputs.constants(header_texts, headers.macro_values()),
+        "mjcffi/_structinfo.py": outputs.struct_info(decls, notes, extents.from_xmacros()),
+        "mjcffi/_funcinfo.py": outputs.function_info(decls, notes),
+    }
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python -m codegen", description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=pathlib.Path, default=REPO,
+                        help="root to write into (default: the repository)")
+    args = parser.parse_args(argv)
+    for relpath, text in generate().items():
+        path = args.out / relpath
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+        print(f"wrote {path} ({len(text):,} chars)")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,1 @@
+"""Generated struct classes (issue 3)."""
