@@ -18,11 +18,12 @@ def generate():
     decls = parse.parse(text)
     header_texts = headers.header_texts()
     notes = comments.read(header_texts)
+    known = {name: value for enum in decls.enums.values() for name, value in enum.members}
     return {
         "mjcffi/_cdef.h": outputs.cdef(text),
         "mjcffi/_enums.py": outputs.enums(decls),
         "mjcffi/_constants.py": outputs.constants(header_texts, headers.macro_values()),
-        "mjcffi/_structinfo.py": outputs.struct_info(decls, notes, extents.from_xmacros()),
+        "mjcffi/_structinfo.py": outputs.struct_info(decls, notes, extents.from_xmacros(known), known),
         "mjcffi/_funcinfo.py": outputs.function_info(decls, notes),
     }
 

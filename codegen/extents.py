@@ -18,6 +18,7 @@ _XMACROS = {
 
 # Expanded by the preprocessor: MJ_M(n)/MJ_D(n) mark model and data members.
 _XMACRO_SOURCE = """
+#include <mujoco/mujoco.h>
 #include <mujoco/mjxmacro.h>
 #undef MJ_M
 #undef MJ_D
@@ -31,22 +32,38 @@ _TOKEN = re.compile(r"[A-Za-z_]\w*|\d+|[*+]")
 _PRODUCT = re.compile(r"^\w+(\s*[*+]\s*\w+)*$")
 
 
-def _qualify(expr, plain_owner):
-    """'m_nmocap*3' -> 'm.nmocap*3'; a bare name belongs to `plain_owner`."""
+def _as_extent(parts):
+    """Join qualified tokens; a product of plain numbers becomes an int."""
+    joined = "".join(parts)
+    if re.fullmatch(r"[\d*+]+", joined):
+        return eval(joined)          # only digits, '*' and '+': safe
+    return joined
+
+
+def _qualify(expr, plain_owner, known):
+    """'m_nmocap*3' -> 'm.nmocap*3'; a bare name belongs to `plain_owner`.
+
+    `known` maps constant names (enumerators such as mjNTEXROLE) to values.
+    """
     parts = []
     for token in _TOKEN.findall(expr):
         if token.isdigit() or token in "*+":
             parts.append(token)
+        elif token in known:
+            parts.append(str(known[token]))
         elif token.startswith(("m_", "d_")):
             parts.append(f"{token[0]}.{token[2:]}")
         else:
             parts.append(f"{plain_owner}.{token}")
-    joined = "".join(parts)
-    return int(joined) if joined.isdigit() else joined
+    return _as_extent(parts)
 
 
-def from_xmacros():
-    """{struct: {field: (rows, cols)}} for every X-macro pointer field."""
+def from_xmacros(known):
+    """{struct: {field: (rows, cols)}} for every X-macro pointer field.
+
+    `known` maps enumerator names to values; #define constants are expanded
+    by the preprocessor.
+    """
     body = _XMACRO_SOURCE + "".join(
         f"@STRUCT {struct} {name}\n" for struct, names in _XMACROS.items() for name in names)
     text = headers.expand(body)
@@ -55,11 +72,11 @@ def from_xmacros():
         table = out.setdefault(struct, {})
         for name, rows, cols in re.findall(r"@FIELD (\w+) \| ([^|]+) \| (.+?) @END", rest):
             # bare sizes in mjData's lists are model sizes (nq, nbody, ...)
-            table[name] = (_qualify(rows, "m"), _qualify(cols, "m"))
+            table[name] = (_qualify(rows, "m", known), _qualify(cols, "m", known))
     return out
 
 
-def from_comment(comment, owner_fields, struct_name):
+def from_comment(comment, owner_fields, struct_name, known):
     """Extents in a trailing `(a x b)` or `(n)` comment, or None.
 
     A name is qualified by the struct it belongs to: the struct's own fields
@@ -78,12 +95,13 @@ def from_comment(comment, owner_fields, struct_name):
         for token in tokens:
             if token.isdigit() or token in "*+":
                 qualified.append(token)
+            elif token in known:
+                qualified.append(str(known[token]))
             elif token in owner_fields:
                 qualified.append(f"{own}.{token}")
             elif struct_name == "mjData":
                 qualified.append(f"m.{token}")
             else:
                 return None
-        joined = "".join(qualified)
-        dims.append(int(joined) if joined.isdigit() else joined)
+        dims.append(_as_extent(qualified))
     return tuple(dims)

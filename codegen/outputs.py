@@ -138,7 +138,8 @@ def _all_structs(decls):
             stack += [f.nested for f in inner.fields if f.nested is not None and f.name]
 
 
-def struct_info(decls, notes, xmacro_extents):
+def struct_info(decls, notes, xmacro_extents, known):
+    """`known`: constant name -> value, for names in the extents comments."""
     tag_names = {tag: name for tag, name in decls.tags.items()}
     lines = [HEADER_PY, _STRUCTINFO_HEAD.rstrip("\n"), "", "STRUCTS = {"]
     for name, struct in _all_structs(decls):
@@ -152,7 +153,7 @@ def struct_info(decls, notes, xmacro_extents):
             dims = tuple(ctype.dims)
             if kind == "pointer":
                 dims = xmacro_extents.get(name, {}).get(fld.name) or \
-                    extents.from_comment(comment, own, name) or ()
+                    extents.from_comment(comment, own, name, known) or ()
             doc = re.sub(r"\s*\([\w*+ ]+(?: x [\w*+ ]+)?\)\s*$", "", comment) if kind == "pointer" \
                 else comment
             doc = re.sub(r"\s+", " ", doc).strip()
