@@ -1,1 +1,1 @@
-"""Generated struct classes (issue 3)."""
+"""Generated struct classes with lazy NumPy views; codegen writes them here."""

@@ -1,0 +1,1 @@
+"""Benchmarks: mjcffi beside the official bindings, in one process, as ratios."""
