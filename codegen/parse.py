@@ -1,5 +1,6 @@
 """Parse MuJoCo's preprocessed declarations with pycparser into plain records."""
 
+import copy
 from dataclasses import dataclass, field
 
 import pycparser
@@ -94,11 +95,13 @@ def const_value(node, names):
         return {"-": -value, "+": value, "~": ~value}[node.op]
     if isinstance(node, c_ast.BinaryOp):
         a, b = const_value(node.left, names), const_value(node.right, names)
-        ops = {"+": a + b, "-": a - b, "*": a * b, "<<": a << b, ">>": a >> b,
-               "|": a | b, "&": a & b}
-        if node.op == "/":
-            return int(a / b)
-        return ops[node.op]
+        if node.op == "/":                  # C truncates toward zero
+            quotient = abs(a) // abs(b)
+            return quotient if (a < 0) == (b < 0) else -quotient
+        ops = {"+": lambda: a + b, "-": lambda: a - b, "*": lambda: a * b,
+               "<<": lambda: a << b, ">>": lambda: a >> b, "|": lambda: a | b,
+               "&": lambda: a & b}
+        return ops[node.op]()
     raise ValueError(f"cannot evaluate {_GEN.visit(node)}")
 
 
@@ -145,7 +148,6 @@ def _decl_text(type_node, name=""):
 
 def _rename(node, name):
     """Copy of a type node whose innermost TypeDecl declares `name`."""
-    import copy
     node = copy.deepcopy(node)
     inner = node
     while not isinstance(inner, c_ast.TypeDecl):
