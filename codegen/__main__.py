@@ -7,7 +7,7 @@ the output is committed, and a test fails when it drifts.
 import argparse
 import pathlib
 
-from . import comments, extents, headers, outputs, parse
+from . import comments, extents, fields, headers, outputs, parse
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -19,11 +19,12 @@ def generate():
     header_texts = headers.header_texts()
     notes = comments.read(header_texts)
     known = {name: value for enum in decls.enums.values() for name, value in enum.members}
+    described = fields.describe(decls, notes, extents.from_xmacros(known), known)
     return {
         "mjcffi/_cdef.h": outputs.cdef(text),
         "mjcffi/_enums.py": outputs.enums(decls),
         "mjcffi/_constants.py": outputs.constants(header_texts, headers.macro_values()),
-        "mjcffi/_structinfo.py": outputs.struct_info(decls, notes, extents.from_xmacros(known), known),
+        "mjcffi/_structinfo.py": outputs.struct_info(described),
         "mjcffi/_funcinfo.py": outputs.function_info(decls, notes),
     }
 
