@@ -7,7 +7,7 @@ the output is committed, and a test fails when it drifts.
 import argparse
 import pathlib
 
-from . import comments, extents, fields, headers, outputs, parse
+from . import comments, extents, fields, guards, headers, outputs, parse
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -26,6 +26,7 @@ def generate():
         "mjcffi/_constants.py": outputs.constants(header_texts, headers.macro_values()),
         "mjcffi/_structinfo.py": outputs.struct_info(described),
         "mjcffi/_funcinfo.py": outputs.function_info(decls, notes),
+        **guards.generate(decls.functions),
     }
 
 

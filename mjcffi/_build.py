@@ -26,10 +26,12 @@ def make_builder():
     builder = FFI()
     builder.cdef((HERE / "_cdef.h").read_text())
     builder.cdef((HERE / "_helper.h").read_text())
+    builder.cdef((HERE / "_guards.h").read_text())
     builder.set_source(
         "mjcffi._mjcffi",
-        '#include <mujoco/mujoco.h>\n#include <mujoco/mjbatch.h>\n#include "_helper.h"\n',
-        sources=["mjcffi/_helper.c"],
+        '#include <mujoco/mujoco.h>\n#include <mujoco/mjbatch.h>\n'
+        '#include "_helper.h"\n#include "_guards.h"\n',
+        sources=["mjcffi/_helper.c", "mjcffi/_guards.c"],
         include_dirs=[str(package / "include"), str(HERE)],
         define_macros=[("MJ_STATIC", None)],   # blank MJAPI, as codegen did
         library_dirs=[str(package)],

@@ -4,3 +4,14 @@
 
 /* mjVERSION_HEADER of the headers this module was compiled against. */
 int mjcffi_header_version(void);
+
+/* The message of the mju_error caught by the last guarded call on this thread
+   (an mjcffi_guard_* function or mjcffi_step), or NULL if that call caught
+   none.  Clears it: a second call returns NULL.  The text stays valid until
+   the next error caught on this thread. */
+const char* mjcffi_take_error(void);
+
+/* mj_step(m, d) nstep times under one guard (cffi releases the GIL around
+   it): 0 when all steps ran, 1 when an mju_error was caught.  After 1, d is
+   left mid-step; see mjcffi/_errors.py for how to make it usable again. */
+int mjcffi_step(const mjModel* m, mjData* d, int nstep);

@@ -8,7 +8,8 @@ import pytest
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 GENERATED = ["mjcffi/_cdef.h", "mjcffi/_enums.py", "mjcffi/_constants.py",
-             "mjcffi/_structinfo.py", "mjcffi/_funcinfo.py"]
+             "mjcffi/_structinfo.py", "mjcffi/_funcinfo.py", "mjcffi/_guards.h",
+             "mjcffi/_guards.c"]
 
 
 @pytest.fixture(scope="module")

@@ -1,0 +1,40 @@
+"""MuJoCo's fatal errors (mju_error) as the Python exception FatalError.
+
+Every MuJoCo function F has a guarded twin `lib.mjcffi_guard_F` (generated in
+_guards.c) that catches mju_error on the calling thread instead of letting the
+default handler end the process.  A guard of a void F returns 1 when it caught
+an error (pass that to `check`); a guard of any other F returns a zero value,
+so call `raise_pending` after it.  `lib.mjcffi_step(m, d, nstep)` steps like a
+void guard.  The error and its message belong to the calling thread only.
+
+After a FatalError out of a call that takes an mjData (mj_step, mj_forward,
+...), that mjData is left mid-computation: MuJoCo did not release the stack
+frames the call had marked, so its stack is smaller by what they held, and its
+state is partly updated.  Call mj_resetData (or mj_resetDataKeyframe) before
+using it again; it then steps exactly as a fresh mjData would.
+"""
+
+from ._library import ffi, lib
+
+
+class FatalError(Exception):
+    """MuJoCo raised a fatal error (mju_error) inside a call.
+
+    The message is MuJoCo's, e.g. "mj_stackAlloc: out of memory, ...".  The
+    process goes on; an mjData that the call was computing must be reset with
+    mj_resetData before it is used again.
+    """
+
+
+def raise_pending():
+    """Raise FatalError if the last guarded call on this thread caught an error."""
+    message = lib.mjcffi_take_error()
+    if message != ffi.NULL:
+        raise FatalError(ffi.string(message).decode("utf-8", "replace"))
+
+
+def check(status):
+    """Raise FatalError if `status`, the result of a void guard, says an error was caught."""
+    if status:
+        raise_pending()
+        raise FatalError("MuJoCo raised a fatal error (its message was already taken)")
