@@ -7,7 +7,7 @@ the output is committed, and a test fails when it drifts.
 import argparse
 import pathlib
 
-from . import comments, extents, fields, guards, headers, outputs, parse
+from . import comments, extents, fields, guards, headers, outputs, parse, structs
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -27,6 +27,7 @@ def generate():
         "mjcffi/_structinfo.py": outputs.struct_info(described),
         "mjcffi/_funcinfo.py": outputs.function_info(decls, notes),
         **guards.generate(decls.functions),
+        **structs.generate(described, decls, header_texts, notes),
     }
 
 

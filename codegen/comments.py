@@ -56,6 +56,9 @@ def _field_comments(text, out):
         opened = _BLOCK_OPEN.match(line)
         if opened:
             stack.append([opened.group(2) or None, {}])
+            comment = re.search(r"\{\s*//\s*(.*?)\s*$", line)
+            if comment and opened.group(2):     # the struct's own comment, field ""
+                out[(opened.group(2), "")] = comment.group(1)
             continue
         closed = _BLOCK_CLOSE.match(line)
         if closed and stack:

@@ -10,10 +10,13 @@ import re
 
 from . import headers
 
+ARENA = "mjData arena"
+
 # X-macro lists of pointer fields, and the struct they belong to.
 _XMACROS = {
     "mjModel": ("MJMODEL_POINTERS",),
-    "mjData": ("MJDATA_POINTERS", "MJDATA_ARENA_POINTERS"),
+    "mjData": ("MJDATA_POINTERS",),
+    ARENA: ("MJDATA_ARENA_POINTERS",),    # in d->arena: addresses change every step
 }
 
 # Expanded by the preprocessor: MJ_M(n)/MJ_D(n) mark model and data members.
@@ -61,14 +64,18 @@ def _qualify(expr, plain_owner, known):
 def from_xmacros(known):
     """{struct: {field: (rows, cols)}} for every X-macro pointer field.
 
+    mjData's arena fields are listed under ARENA rather than 'mjData'.
+
     `known` maps enumerator names to values; #define constants are expanded
     by the preprocessor.
     """
     body = _XMACRO_SOURCE + "".join(
-        f"@STRUCT {struct} {name}\n" for struct, names in _XMACROS.items() for name in names)
+        f"@STRUCT {struct.replace(' ', '_')} {name}\n"
+        for struct, names in _XMACROS.items() for name in names)
     text = headers.expand(body)
     out = {}
     for struct, rest in re.findall(r"@STRUCT (\w+) (.*)", text):
+        struct = struct.replace("_", " ")
         table = out.setdefault(struct, {})
         for name, rows, cols in re.findall(r"@FIELD (\w+) \| ([^|]+) \| (.+?) @END", rest):
             # bare sizes in mjData's lists are model sizes (nq, nbody, ...)

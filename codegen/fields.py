@@ -21,6 +21,7 @@ class FieldInfo:
     extents: tuple
     doc: str
     const: bool = False
+    moves: bool = False   # a pointer whose address or extents change after creation
 
 
 def _kind(ctype, nested, struct_names):
@@ -83,12 +84,16 @@ def describe(decls, notes, xmacro_extents, known):
             kind = _kind(ctype, fld.nested, decls.structs)
             comment = notes.fields.get((struct.tag, fld.name), "")
             dims = tuple(ctype.dims)
+            moves = False
             if kind == "pointer":
-                dims = xmacro_extents.get(name, {}).get(fld.name) or \
+                arena = xmacro_extents.get(extents.ARENA, {}) if name == "mjData" else {}
+                dims = xmacro_extents.get(name, {}).get(fld.name) or arena.get(fld.name) or \
                     extents.from_comment(comment, own, name, known) or ()
                 comment = _EXTENTS_COMMENT.sub("", comment)
+                moves = fld.name in arena or any(
+                    isinstance(e, str) and e.startswith(("d.", "self.")) for e in dims)
             infos.append(FieldInfo(
                 name=fld.name, ctype=ctype.decl, kind=kind,
                 elem=_element(ctype, fld.nested, decls.tags), extents=dims,
-                doc=re.sub(r"\s+", " ", comment).strip(), const=ctype.const))
+                doc=re.sub(r"\s+", " ", comment).strip(), const=ctype.const, moves=moves))
     return out

@@ -1,9 +1,16 @@
 """mjcffi: a cffi binding of the MuJoCo physics engine.
 
-Generated from the headers of the mujoco-core wheel.  `mjcffi.ffi` and
-`mjcffi.lib` give the raw C API; MuJoCo's enums (mjtObj, ...) and #define
-constants (mjPI, mjMINVAL, ...) are attributes of this package.
+Generated from the headers of the mujoco-core wheel.  Code written for the
+official bindings runs with `import mjcffi as mujoco`: MjModel, MjData and
+the other struct classes, MuJoCo's functions, enums (mjtObj, ...) and
+#define constants (mjPI, mjMINVAL, ...) are attributes of this package.
+`mjcffi.ffi` and `mjcffi.lib` give the raw C API.
+
+Only the enums, constants and the compiled module load at import; the rest
+loads on first use, so that `import mjcffi` stays cheap.
 """
+
+import importlib
 
 from ._constants import *  # noqa: F401,F403
 from ._enums import *  # noqa: F401,F403
@@ -11,3 +18,27 @@ from ._errors import FatalError  # noqa: F401
 from ._library import ffi, lib  # noqa: F401
 
 __version__ = "0.1.0"
+
+# public name -> module that defines it, imported on first use
+_LAZY = {
+    "MjModel": ".model",
+    "MjData": ".data",
+}
+
+
+def __getattr__(name):
+    module = _LAZY.get(name)
+    if module is None:
+        # `from . import _x` asks here first for a submodule not yet loaded
+        structs = importlib.import_module(".structs", __name__)
+        if name.startswith("_") or name not in structs.MODULES:
+            raise AttributeError(f"module 'mjcffi' has no attribute {name!r}")
+        module = ".structs"
+    value = getattr(importlib.import_module(module, __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    structs = importlib.import_module(".structs", __name__)
+    return sorted(set(globals()) | set(_LAZY) | set(structs.MODULES))

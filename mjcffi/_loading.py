@@ -69,3 +69,14 @@ def load_xml_string(xml, assets=None):
         raise ValueError("MuJoCo could not add the XML text to its VFS")
     error = ffi.new("char[]", _ERROR_SIZE)
     return _owned_model(lib.mj_loadXML(_XML_NAME, vfs, error, _ERROR_SIZE), error)
+
+
+def load_binary_path(path, assets=None):
+    """Load the MJB file at `path`; `assets` (name -> bytes) go in the VFS."""
+    raw = _fspath(path, "path")
+    vfs = _new_vfs(assets) if assets else ffi.NULL
+    model = lib.mj_loadModel(raw, vfs)
+    if model == ffi.NULL:
+        raise ValueError(f"MuJoCo could not load the MJB model {os.fsdecode(raw)!r} "
+                         "(missing, unreadable, or not an MJB file of MuJoCo 4.0)")
+    return ffi.gc(model, lib.mj_deleteModel)
