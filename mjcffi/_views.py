@@ -13,7 +13,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ._library import ffi, lib
+from ._errors import check, raise_pending
+from ._library import ffi
 
 # C element type (MuJoCo's name or cffi's resolved one) -> NumPy dtype.
 DTYPES = {
@@ -427,21 +428,13 @@ def int_argument(value, argname):
         raise TypeError(f"{argname} must be an int, not {type(value).__name__}") from None
 
 
-def _fatal_error(message):
-    from ._errors import FatalError     # here, not at import: _errors sits beside us
-    return FatalError(ffi.string(message).decode("utf-8", "replace"))
-
-
 def guarded(guard, *args):
     """Call a void `mjcffi_guard_*` function; a caught mju_error becomes FatalError."""
-    if guard(*args):
-        raise _fatal_error(lib.mjcffi_take_error())
+    check(guard(*args))
 
 
 def guarded_result(guard, *args):
     """Call a value-returning `mjcffi_guard_*`; a caught mju_error becomes FatalError."""
     result = guard(*args)
-    message = lib.mjcffi_take_error()
-    if message != ffi.NULL:
-        raise _fatal_error(message)
+    raise_pending()
     return result
