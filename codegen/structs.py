@@ -339,11 +339,11 @@ _VIEWS_NAMES = ("Array", "DynamicArray", "FixedArray", "FixedRecords", "Nested",
 def _imports(body):
     """Import lines for exactly the names the class bodies use."""
     text = "\n".join(body)
-    used = lambda name: re.search(rf"\b{name}\b", text)   # noqa: E731
-    library = [n for n in ("ffi", "lib") if used(n + ".")]
-    lines = ["from numpy import ndarray", ""] if used("ndarray") else []
+    library = [n for n in ("ffi", "lib") if re.search(rf"\b{n}\.", text)]
+    lines = ["from numpy import ndarray", ""] if ": ndarray" in text else []
     lines += [f"from .._library import {', '.join(library)}"] if library else []
-    views = [n for n in _VIEWS_NAMES if used(n)]
+    views = [n for n in _VIEWS_NAMES if re.search(rf"\b{n}\(", text)] + ["Struct"]
+    views.sort(key=_VIEWS_NAMES.index)
     line = "from .._views import " + ", ".join(views)
     if len(line) > 99:
         wrapped = textwrap.wrap(", ".join(views), 76)

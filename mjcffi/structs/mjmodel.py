@@ -2,7 +2,7 @@
 """The structs of MuJoCo's mjmodel.h, as thin classes over C memory."""
 
 from .._library import ffi, lib
-from .._views import Array, FixedArray, Nested, Struct, chars, pointer, scalar, struct_type, text
+from .._views import Array, FixedArray, Nested, Struct, chars, pointer, scalar, struct_type
 
 __all__ = ['MjLROpt', 'MjCache', 'MjVFS', 'MjOption', 'MjVisual', 'MjVisualGlobal', 'MjVisualQuality', 'MjVisualHeadlight', 'MjVisualMap', 'MjVisualScale', 'MjVisualRgba', 'MjStatistic', 'MjModel']
 
