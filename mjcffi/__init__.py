@@ -23,6 +23,10 @@ __version__ = "0.1.0"
 _LAZY = {
     "MjModel": ".model",
     "MjData": ".data",
+    "MjWarningError": ".warning_errors",
+    "set_warnings_as_errors": ".warning_errors",
+    "get_warnings_as_errors": ".warning_errors",
+    "ignore_warnings": ".warning_errors",
 }
 
 
