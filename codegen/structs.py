@@ -56,11 +56,13 @@ def _header_of(decls, header_texts):
 class _Context:
     """What the writer of one class needs to know about all the others."""
 
-    def __init__(self, described, decls, header_of):
+    def __init__(self, described, decls, header_of, notes):
         self.described = described
-        self.decls = decls
         self.header_of = header_of
         self.functions = decls.functions
+        # the comment on a struct's opening line, e.g. "physics options"
+        self.comment = {name: notes.fields.get((s.tag, ""), "")
+                        for name, s in decls.structs.items()}
 
     def module_of(self, cname):
         return self.header_of[cname.split(".")[0]]
@@ -129,14 +131,10 @@ def _pytype(elem):
     return "int"
 
 
-def _doc(text):
-    return repr(text)
-
-
 def _field_line(ctx, struct, f, refs):
     """The class-body text for one field: `name = builder(...)` or a property."""
     attr = attr_name(f.name)
-    doc = _doc(f.doc)
+    doc = repr(f.doc)
     if f.kind == "scalar":
         readonly = ", readonly=True" if _readonly(struct, f) else ""
         return f"{attr}: {_pytype(f.elem)} = scalar({f.name!r}, {doc}{readonly})"
@@ -264,7 +262,7 @@ def _arg_expr(arg):
 def _class(ctx, struct, refs):
     infos = ctx.described[struct]
     pycls = class_name(struct)
-    doc = ctx.decls_comment.get(struct) or ""
+    doc = ctx.comment.get(struct) or ""
     lines = [f"class {pycls}(Struct):",
              f'    """{struct}' + (f": {doc}" if doc else "") + '."""',
              "",
@@ -296,9 +294,7 @@ def _class(ctx, struct, refs):
 def generate(described, decls, header_texts, notes):
     """{relative path: text} for mjcffi/structs/*.py."""
     header_of = _header_of(decls, header_texts)
-    ctx = _Context(described, decls, header_of)
-    ctx.decls_comment = {name: notes.fields.get((s.tag, ""), "")
-                         for name, s in decls.structs.items()}
+    ctx = _Context(described, decls, header_of, notes)
     modules, order = {}, []
     for struct in described:
         module = ctx.module_of(struct)
