@@ -27,6 +27,14 @@ _LAZY = {
     "set_warnings_as_errors": ".warning_errors",
     "get_warnings_as_errors": ".warning_errors",
     "ignore_warnings": ".warning_errors",
+    "set_mjcb_passive": ".callbacks", "get_mjcb_passive": ".callbacks",
+    "set_mjcb_control": ".callbacks", "get_mjcb_control": ".callbacks",
+    "set_mjcb_contactfilter": ".callbacks", "get_mjcb_contactfilter": ".callbacks",
+    "set_mjcb_sensor": ".callbacks", "get_mjcb_sensor": ".callbacks",
+    "set_mjcb_time": ".callbacks", "get_mjcb_time": ".callbacks",
+    "set_mjcb_act_dyn": ".callbacks", "get_mjcb_act_dyn": ".callbacks",
+    "set_mjcb_act_gain": ".callbacks", "get_mjcb_act_gain": ".callbacks",
+    "set_mjcb_act_bias": ".callbacks", "get_mjcb_act_bias": ".callbacks",
 }
 
 

@@ -1,0 +1,408 @@
+"""MuJoCo's callbacks, the `mjcb_*` globals of mujoco.h, set from Python.
+
+For each global `mjcb_foo` there is `set_mjcb_foo(callback)` and
+`get_mjcb_foo()`, as in the official bindings.  `callback` is one of:
+
+- a Python callable.  MuJoCo then calls a cffi `extern "Python"` trampoline
+  (declared in _callbacks.h), which takes the GIL and calls it with the Python
+  wrappers: `f(model, data, ...)`.  `model` and `data` are the very MjModel
+  and MjData objects the program made, found by address in a registry of live
+  wrappers (which model.py and data.py fill through `_track`).  Memory that
+  no live mjcffi wrapper owns (an mjData made by another binding, or by raw
+  `lib` calls) arrives as a *borrowed* wrapper, made for this call only: it
+  does not keep the memory alive, so do not keep it, or its arrays, after the
+  callback returns.  Making one builds all its eager views: some 15 us per
+  call, against about 0.2 us for finding a registered wrapper.
+- a C function pointer: a cffi cdata of the global's function type (from
+  `mjcffi.ffi` or from another cffi module declaring the same structs), or a
+  ctypes function pointer (`CDLL` function or `CFUNCTYPE` object).  Its
+  address is stored in the global itself, so MuJoCo calls it with no Python
+  and no GIL in between (a `CFUNCTYPE` wrapping a Python function takes the
+  GIL itself, through ctypes).  A cffi pointer of another function type is a
+  TypeError; a ctypes signature cannot always be checked and is trusted.
+  For a function of a cffi API-mode module, pass `ffi.addressof(lib, "f")`:
+  `lib.f` itself is a Python callable, and would be called as one.
+- None: the global is set back to NULL (MuJoCo's default behavior).
+
+While installed, the object is referenced here, so the memory behind a
+trampoline, a `ffi.callback` or a `CFUNCTYPE` cannot go away; replacing or
+clearing it drops that reference.  Do not replace a callback while another
+thread is inside MuJoCo: a thread that has already read the old pointer could
+still call it.
+
+The globals belong to the one libmujoco of the process, shared with the
+official bindings when both are imported: a callback set through either
+binding runs under both, and `import mujoco` itself puts a timer of its own in
+`mjcb_time`, which MuJoCo's profiler then calls dozens of times per step under
+both bindings (`set_mjcb_time(None)` removes it).  `get_mjcb_foo()` only knows
+what mjcffi installed: it returns that object while the global still holds it,
+and None otherwise, whatever the global then holds.
+
+Exceptions.  A Python exception cannot cross MuJoCo's C frames.  When a Python
+callback raises (or returns a value of the wrong type), MuJoCo receives a
+neutral value instead: nothing for the void callbacks, 0 ("keep this pair") for
+mjcb_contactfilter, 0.0 for mjcb_time and mjcb_act_*.  The MuJoCo call goes
+on to its end, calling the callback again as needed, and the *first* such
+exception is stashed for the thread that called MuJoCo; later ones are
+dropped.  mjcffi's functions re-raise it, with the callback's traceback, as
+soon as the call returns (`raise_pending_callback_error`).  After raw `lib`
+calls, call `raise_pending_callback_error()` yourself, or the exception comes
+out of the next mjcffi call that checks.  (The official bindings abort the
+MuJoCo call at the callback instead, leaving the mjData mid-step; here the
+call completes, with the neutral values, and the state stays consistent.)
+A callback that MuJoCo runs on one of its own pool threads (an mjThreadPool
+bound to the mjData) stashes its exception for whichever thread checks next.
+"""
+
+import operator
+import sys
+import threading
+import weakref
+
+from ._library import ffi, lib
+
+__all__ = [
+    "set_mjcb_passive", "get_mjcb_passive", "set_mjcb_control", "get_mjcb_control",
+    "set_mjcb_contactfilter", "get_mjcb_contactfilter", "set_mjcb_sensor", "get_mjcb_sensor",
+    "set_mjcb_time", "get_mjcb_time", "set_mjcb_act_dyn", "get_mjcb_act_dyn",
+    "set_mjcb_act_gain", "get_mjcb_act_gain", "set_mjcb_act_bias", "get_mjcb_act_bias",
+    "raise_pending_callback_error",
+]
+
+
+# ------------------------------------------------------- wrappers by address
+#
+# Root cdata -> weak reference to the owning MjModel / MjData wrapper.  cffi
+# pointers hash and compare by address, so the `mjData *` a callback receives
+# finds the gc-owned root of the wrapper.  An entry lives as long as its
+# wrapper, and the wrapper keeps the root's memory alive: an address in here
+# is never stale.
+
+_MODELS = {}
+_DATAS = {}
+
+
+def _track(wrapper):
+    """Register a new owning MjModel or MjData so that callbacks receive it.
+
+    The hook of mjcffi/model.py and mjcffi/data.py, called once per wrapper
+    that owns its memory (`wrapper._root`).
+    """
+    registry = _DATAS if wrapper._cname == "mjData" else _MODELS
+    key = wrapper._root
+
+    def forget(ref):
+        if registry.get(key) is ref:
+            del registry[key]
+    registry[key] = weakref.ref(wrapper, forget)
+
+
+def _wrappers(m, d):
+    """The MjModel and MjData wrappers of the pointers a callback received."""
+    ref = _MODELS.get(m)
+    model = ref() if ref is not None else None
+    if model is None:
+        from .model import MjModel
+        model = MjModel._wrap(m, m)       # borrowed: valid during this call only
+    ref = _DATAS.get(d)
+    data = ref() if ref is not None else None
+    if data is None:
+        from .data import MjData
+        data = MjData._wrap(d, d, _model=model)
+    return model, data
+
+
+# ------------------------------------------------------ stashed exceptions
+
+_lock = threading.Lock()
+_errors = {}          # thread (None: MuJoCo's pool threads) -> first exception
+_pending = False      # bool(_errors): the only thing the fast path reads
+_Foreign = getattr(threading, "_DummyThread", ())    # threads Python did not start
+
+
+def raise_pending_callback_error():
+    """Raise the exception a Python callback stashed on this thread, if any.
+
+    mjcffi's functions call this after each MuJoCo call that can run
+    callbacks; call it yourself after raw `lib` calls.  With nothing pending
+    it costs one test of a module flag.
+    """
+    if _pending:
+        _raise_stashed()
+
+
+def _raise_stashed():
+    error = _take()
+    if error is not None:
+        try:
+            raise error
+        finally:
+            error = None          # no cycle through this frame
+
+
+def _take():
+    global _pending
+    thread = threading.current_thread()
+    with _lock:
+        error = _errors.pop(thread, None)
+        if error is None:
+            error = _errors.pop(None, None)
+        for ended in [t for t in _errors if t is not None and not t.is_alive()]:
+            del _errors[ended]    # nobody is left to raise these in
+        _pending = bool(_errors)
+    return error
+
+
+def _stasher(name):
+    """The cffi `onerror` of a trampoline: stash, and let MuJoCo get the neutral value."""
+    note = (f"(raised in the Python {name} callback, inside a MuJoCo call; "
+            f"mjcffi re-raised it when that call returned)")
+
+    def stash(kind, error, traceback):
+        global _pending
+        thread = threading.current_thread()
+        key = None if isinstance(thread, _Foreign) else thread
+        with _lock:
+            first = key not in _errors
+            if first:
+                _errors[key] = error.with_traceback(traceback)
+            _pending = True
+        if first and hasattr(error, "add_note") and note not in getattr(error, "__notes__", ()):
+            error.add_note(note)                        # Python >= 3.11
+    return stash
+
+
+# ---------------------------------------------------------------- the slots
+
+class _Slot:
+    """One mjcb_* global: its type, its trampoline, what mjcffi put there."""
+    __slots__ = ("name", "ctype", "trampoline", "fn", "obj", "installed")
+
+    def __init__(self, name):
+        self.name = name
+        self.ctype = ffi.typeof(getattr(lib, name))
+        self.trampoline = getattr(lib, "mjcffi_py_" + name)
+        self.fn = None            # the Python callable the trampoline calls
+        self.obj = None           # what the user gave, kept alive while installed
+        self.installed = None     # the pointer written into the global
+
+
+def _attach(slot, body):
+    """Make `body` the Python side of the slot's trampoline."""
+    ffi.def_extern("mjcffi_py_" + slot.name, onerror=_stasher(slot.name))(body)
+    return slot
+
+
+def _generic(name):
+    slot = _Slot(name)
+
+    def call(m, d):
+        fn = slot.fn
+        if fn is not None:
+            fn(*_wrappers(m, d))
+    return _attach(slot, call)
+
+
+def _sensor(name):
+    slot = _Slot(name)
+
+    def call(m, d, stage):
+        fn = slot.fn
+        if fn is not None:
+            fn(*_wrappers(m, d), stage)
+    return _attach(slot, call)
+
+
+def _contactfilter(name):
+    slot = _Slot(name)
+
+    def call(m, d, geom1, geom2):
+        fn = slot.fn
+        if fn is None:
+            return 0
+        result = fn(*_wrappers(m, d), geom1, geom2)
+        try:
+            return 1 if operator.index(result) else 0
+        except TypeError:
+            raise TypeError(f"{name} must return an int (nonzero: discard the pair), "
+                            f"not {type(result).__name__}") from None
+    return _attach(slot, call)
+
+
+def _number(name, result):
+    try:
+        return float(result)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must return a number, not {type(result).__name__}") from None
+
+
+def _time(name):
+    slot = _Slot(name)
+
+    def call():
+        fn = slot.fn
+        return 0.0 if fn is None else _number(name, fn())
+    return _attach(slot, call)
+
+
+def _actuator(name):
+    slot = _Slot(name)
+
+    def call(m, d, actuator):
+        fn = slot.fn
+        if fn is None:
+            return 0.0
+        return _number(name, fn(*_wrappers(m, d), actuator))
+    return _attach(slot, call)
+
+
+_PASSIVE = _generic("mjcb_passive")
+_CONTROL = _generic("mjcb_control")
+_CONTACTFILTER = _contactfilter("mjcb_contactfilter")
+_SENSOR = _sensor("mjcb_sensor")
+_TIME = _time("mjcb_time")
+_ACT_DYN = _actuator("mjcb_act_dyn")
+_ACT_GAIN = _actuator("mjcb_act_gain")
+_ACT_BIAS = _actuator("mjcb_act_bias")
+
+
+# ------------------------------------------------------ setting and getting
+
+def _signature(ctype):
+    """A function type as comparable data, whatever cffi module declared it
+    (`struct mjModel_ *` in one, `mjModel *` in another)."""
+    if ctype.kind == "function":
+        return ("function", _signature(ctype.result), tuple(map(_signature, ctype.args)),
+                ctype.ellipsis)
+    if ctype.kind == "pointer":
+        return ("pointer", _signature(ctype.item))
+    if ctype.kind in ("struct", "union"):
+        name = ctype.cname.split(" ")[-1]
+        return (ctype.kind, name[:-1] if name.endswith("_") else name)
+    return (ctype.kind, ctype.cname)
+
+
+def _from_cffi(slot, pointer):
+    ctype = ffi.typeof(pointer)
+    if ctype is slot.ctype:
+        return pointer
+    if ctype.kind == "function" and _signature(ctype) == _signature(slot.ctype):
+        return ffi.cast(slot.ctype, pointer)
+    raise TypeError(f"{slot.name} needs a C function pointer of type {slot.ctype.cname}, "
+                    f"not <cdata {ctype.cname}>")
+
+
+def _from_ctypes(slot, function, ctypes):
+    declared = function.argtypes
+    if declared is not None and len(declared) != len(slot.ctype.args):
+        raise TypeError(f"{slot.name} needs a C function of {len(slot.ctype.args)} arguments "
+                        f"({slot.ctype.cname}), not {len(declared)}")
+    return ffi.cast(slot.ctype, ctypes.cast(function, ctypes.c_void_p).value or 0)
+
+
+def _set(slot, callback):
+    fn = None
+    ctypes = sys.modules.get("ctypes")     # a ctypes function means ctypes is loaded
+    if callback is None:
+        pointer = ffi.NULL
+    elif isinstance(callback, ffi.CData):
+        pointer = _from_cffi(slot, callback)
+    elif ctypes is not None and isinstance(callback, ctypes._CFuncPtr):
+        pointer = _from_ctypes(slot, callback, ctypes)
+    elif callable(callback):
+        pointer, fn = slot.trampoline, callback
+        slot.fn = fn                       # before MuJoCo can reach the trampoline
+    else:
+        raise TypeError(f"{slot.name} must be a callable, a C function pointer or None, "
+                        f"not {type(callback).__name__}")
+    setattr(lib, slot.name, pointer)
+    # only now that MuJoCo no longer sees the old one, let it go
+    slot.fn, slot.obj = fn, callback
+    slot.installed = None if callback is None else pointer
+
+
+def _get(slot):
+    if slot.obj is not None and getattr(lib, slot.name) == slot.installed:
+        return slot.obj
+    return None
+
+
+def set_mjcb_passive(callback):
+    """Install `callback(model, data)` as mjcb_passive (mjfGeneric); None clears it."""
+    _set(_PASSIVE, callback)
+
+
+def get_mjcb_passive():
+    """The mjcb_passive that mjcffi installed, while still installed; else None."""
+    return _get(_PASSIVE)
+
+
+def set_mjcb_control(callback):
+    """Install `callback(model, data)` as mjcb_control (mjfGeneric); None clears it."""
+    _set(_CONTROL, callback)
+
+
+def get_mjcb_control():
+    """The mjcb_control that mjcffi installed, while still installed; else None."""
+    return _get(_CONTROL)
+
+
+def set_mjcb_contactfilter(callback):
+    """Install `callback(model, data, geom1, geom2) -> int` as mjcb_contactfilter
+    (mjfConFilt; nonzero discards the pair); None clears it."""
+    _set(_CONTACTFILTER, callback)
+
+
+def get_mjcb_contactfilter():
+    """The mjcb_contactfilter that mjcffi installed, while still installed; else None."""
+    return _get(_CONTACTFILTER)
+
+
+def set_mjcb_sensor(callback):
+    """Install `callback(model, data, stage)` as mjcb_sensor (mjfSensor); None clears it."""
+    _set(_SENSOR, callback)
+
+
+def get_mjcb_sensor():
+    """The mjcb_sensor that mjcffi installed, while still installed; else None."""
+    return _get(_SENSOR)
+
+
+def set_mjcb_time(callback):
+    """Install `callback() -> float` as mjcb_time (mjfTime); None clears it."""
+    _set(_TIME, callback)
+
+
+def get_mjcb_time():
+    """The mjcb_time that mjcffi installed, while still installed; else None."""
+    return _get(_TIME)
+
+
+def set_mjcb_act_dyn(callback):
+    """Install `callback(model, data, id) -> float` as mjcb_act_dyn (mjfAct); None clears it."""
+    _set(_ACT_DYN, callback)
+
+
+def get_mjcb_act_dyn():
+    """The mjcb_act_dyn that mjcffi installed, while still installed; else None."""
+    return _get(_ACT_DYN)
+
+
+def set_mjcb_act_gain(callback):
+    """Install `callback(model, data, id) -> float` as mjcb_act_gain (mjfAct); None clears it."""
+    _set(_ACT_GAIN, callback)
+
+
+def get_mjcb_act_gain():
+    """The mjcb_act_gain that mjcffi installed, while still installed; else None."""
+    return _get(_ACT_GAIN)
+
+
+def set_mjcb_act_bias(callback):
+    """Install `callback(model, data, id) -> float` as mjcb_act_bias (mjfAct); None clears it."""
+    _set(_ACT_BIAS, callback)
+
+
+def get_mjcb_act_bias():
+    """The mjcb_act_bias that mjcffi installed, while still installed; else None."""
+    return _get(_ACT_BIAS)
