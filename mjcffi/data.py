@@ -11,6 +11,7 @@ import numpy as np
 from . import _structinfo
 from ._library import ffi, lib
 from ._views import guarded_result, struct_pointer
+from .callbacks import _track
 from .structs import mjdata
 
 # Unpickling rebases mjData's pointer fields, seen as 8-byte words of the struct.
@@ -36,6 +37,7 @@ class MjData(mjdata.MjData):
         if root == ffi.NULL:
             raise MemoryError("mj_makeData could not allocate the mjData")
         self._init_root(ffi.gc(root, lib.mj_deleteData), _model=model)
+        _track(self)            # so that callbacks receive this very object
 
     @property
     def model(self):
@@ -47,6 +49,7 @@ class MjData(mjdata.MjData):
         root = guarded_result(lib.mjcffi_guard_mj_copyData, ffi.NULL, model._ptr, self._ptr)
         other = type(self).__new__(type(self))
         other._init_root(ffi.gc(root, lib.mj_deleteData), _model=model)
+        _track(other)
         return other
 
     def __copy__(self):

@@ -8,6 +8,7 @@ pickled.
 from . import _loading
 from ._library import ffi, lib
 from ._views import guarded_result
+from .callbacks import _track
 from .structs import mjmodel
 
 
@@ -24,6 +25,7 @@ class MjModel(mjmodel.MjModel):
     def _from_root(cls, root):
         self = cls.__new__(cls)
         self._init_root(root)
+        _track(self)            # so that callbacks receive this very object
         return self
 
     @classmethod
