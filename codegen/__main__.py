@@ -7,7 +7,7 @@ the output is committed, and a test fails when it drifts.
 import argparse
 import pathlib
 
-from . import comments, extents, fields, guards, headers, outputs, parse, structs
+from . import comments, extents, fields, functions, guards, headers, outputs, parse, structs
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -28,6 +28,7 @@ def generate():
         "mjcffi/_funcinfo.py": outputs.function_info(decls, notes),
         **guards.generate(decls.functions),
         **structs.generate(described, decls, header_texts, notes),
+        **functions.generate(decls, notes, described, header_texts),
     }
 
 

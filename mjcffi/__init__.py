@@ -40,6 +40,11 @@ _LAZY = {
 
 def __getattr__(name):
     module = _LAZY.get(name)
+    if module is None and name.startswith("mj"):
+        functions = importlib.import_module(".functions", __name__)
+        if name in functions.NAMES:
+            value = globals()[name] = getattr(functions, name)
+            return value
     if module is None:
         # `from . import _x` asks here first for a submodule not yet loaded
         structs = importlib.import_module(".structs", __name__)
@@ -53,4 +58,5 @@ def __getattr__(name):
 
 def __dir__():
     structs = importlib.import_module(".structs", __name__)
-    return sorted(set(globals()) | set(_LAZY) | set(structs.MODULES))
+    functions = importlib.import_module(".functions", __name__)
+    return sorted(set(globals()) | set(_LAZY) | set(structs.MODULES) | set(functions.NAMES))

@@ -1,0 +1,826 @@
+"""Write mjcffi/_functions.py: one Python function per function of mujoco.h and mjbatch.h.
+
+Each function converts its arguments with mjcffi/_marshal.py, calls the
+guarded twin `lib.mjcffi_guard_F` (so that mju_error raises FatalError) and
+converts the result.  The rules are generic, driven by the C declaration and
+the header's `Nullable:` notes:
+
+- struct pointers take the wrapper classes; `const char *` takes str;
+- numeric pointers are arrays: inputs are converted, outputs must be writable
+  C-contiguous arrays of the exact dtype; fixed extents (`mjtNum res[3]`)
+  come from the declaration, all other extents from SHAPES below;
+- size arguments named as an extent in SHAPES are deduced from the arrays and
+  leave the Python signature, as in the official bindings (mju_add(res, vec1,
+  vec2)); `(char* error, int error_sz)` pairs leave it too (ERRORS);
+- a function whose arguments the rules cannot express safely must have an
+  entry in OVERRIDES (hand-written in mjcffi/_overrides.py) or UNSUPPORTED
+  (it raises NotImplementedError); codegen fails otherwise.
+
+The tables below are the only special cases.
+"""
+
+import keyword
+import re
+import textwrap
+from dataclasses import dataclass
+
+from . import outputs
+from .structs import class_name
+
+# ------------------------------------------------------------------ tables
+
+# Extents of pointer arguments that the declaration does not give, as
+# comma-separated dims.  A dim is a number, a #define or enum constant, a size
+# argument of the function (deduced from the first array that has it alone,
+# or K*it, in its dims, then left out of the Python signature unless listed in
+# KEEP), or a Python expression over the arguments: `m.nv` reads the model,
+# `state_size(m, sig)` calls a helper of mjcffi/_marshal.py.  "*": any size
+# (checked by a CHECKS entry).  For `void *` and `char *` buffers the dim is
+# the byte count.
+SHAPES = {
+    "mj_addBufferVFS": {"buffer": "nbuffer"},
+    "mj_defaultSolRefImp": {"solref": "mjNREF", "solimp": "mjNIMP"},
+    "mj_saveModel": {"buffer": "buffer_sz"},
+    "mju_printMat": {"mat": "nr, nc"},
+    "mju_printMatSparse": {"mat": "*", "rownnz": "nr", "rowadr": "nr", "colind": "*"},
+    "mj_solveM": {"x": "n, m.nv", "y": "n, m.nv"},
+    "mj_solveM2": {"x": "n, m.nv", "y": "n, m.nv", "sqrtInvD": "m.nv"},
+    "mj_rne": {"result": "m.nv"},
+    "mj_constraintUpdate": {"jar": "d.nefc"},
+    "mj_getState": {"state": "state_size(m, sig)"},
+    "mj_extractState": {"src": "state_size(m, srcsig, 'srcsig')",
+                        "dst": "state_size(m, dstsig, 'dstsig')"},
+    "mj_setState": {"state": "state_size(m, sig)"},
+    "mj_readCtrl": {"result": "m.actuator_ctrlnum[id]"},
+    "mj_readSensor": {"result": "m.sensor_dim[id]"},
+    "mj_initCtrlHistory": {"times": "m.actuator_history[2*id]",
+                           "values": "m.actuator_history[2*id], m.actuator_ctrlnum[id]"},
+    "mj_initSensorHistory": {"times": "m.sensor_history[2*id]",
+                             "values": "m.sensor_history[2*id], m.sensor_dim[id]"},
+    "mj_mulJacVec": {"res": "d.nefc", "vec": "m.nv"},
+    "mj_mulJacTVec": {"res": "m.nv", "vec": "d.nefc"},
+    "mj_jac": {"jacp": "3, m.nv", "jacr": "3, m.nv"},
+    "mj_jacBody": {"jacp": "3, m.nv", "jacr": "3, m.nv"},
+    "mj_jacBodyCom": {"jacp": "3, m.nv", "jacr": "3, m.nv"},
+    "mj_jacSubtreeCom": {"jacp": "3, m.nv"},
+    "mj_jacGeom": {"jacp": "3, m.nv", "jacr": "3, m.nv"},
+    "mj_jacSite": {"jacp": "3, m.nv", "jacr": "3, m.nv"},
+    "mj_jacPointAxis": {"jacPoint": "3, m.nv", "jacAxis": "3, m.nv"},
+    "mj_jacDot": {"jacp": "3, m.nv", "jacr": "3, m.nv"},
+    "mj_angmomMat": {"mat": "3, m.nv"},
+    "mj_fullM": {"dst": "m.nv, m.nv"},
+    "mj_mulM": {"res": "m.nv", "vec": "m.nv"},
+    "mj_mulM2": {"res": "m.nv", "vec": "m.nv"},
+    "mj_addM": {"dst": "m.nv, m.nv", "rownnz": "*", "rowadr": "*", "colind": "*"},
+    "mj_applyFT": {"qfrc_target": "m.nv"},
+    "mj_differentiatePos": {"qvel": "m.nv", "qpos1": "m.nq", "qpos2": "m.nq"},
+    "mj_integratePos": {"qpos": "m.nq", "qvel": "m.nv"},
+    "mj_normalizeQuat": {"qpos": "m.nq"},
+    "mj_ray": {"geomgroup": "mjNGROUP"},
+    "mj_multiRay": {"vec": "nray, 3", "geomgroup": "mjNGROUP", "geomid": "nray",
+                    "dist": "nray", "normal": "nray, 3"},
+    "mju_raySkin": {"face": "nface, 3", "vert": "nvert, 3"},
+    "mju_zero": {"res": "n"},
+    "mju_fill": {"res": "n"},
+    "mju_copy": {"res": "n", "vec": "n"},
+    "mju_sum": {"vec": "n"},
+    "mju_L1": {"vec": "n"},
+    "mju_scl": {"res": "n", "vec": "n"},
+    "mju_add": {"res": "n", "vec1": "n", "vec2": "n"},
+    "mju_sub": {"res": "n", "vec1": "n", "vec2": "n"},
+    "mju_addTo": {"res": "n", "vec": "n"},
+    "mju_subFrom": {"res": "n", "vec": "n"},
+    "mju_addToScl": {"res": "n", "vec": "n"},
+    "mju_addScl": {"res": "n", "vec1": "n", "vec2": "n"},
+    "mju_normalize": {"res": "n"},
+    "mju_norm": {"res": "n"},
+    "mju_dot": {"vec1": "n", "vec2": "n"},
+    "mju_mulMatVec": {"res": "nr", "mat": "nr, nc", "vec": "nc"},
+    "mju_mulMatTVec": {"res": "nc", "mat": "nr, nc", "vec": "nr"},
+    "mju_mulVecMatVec": {"vec1": "n", "mat": "n, n", "vec2": "n"},
+    "mju_transpose": {"res": "nc, nr", "mat": "nr, nc"},
+    "mju_symmetrize": {"res": "n, n", "mat": "n, n"},
+    "mju_eye": {"mat": "n, n"},
+    "mju_mulMatMat": {"res": "r1, c2", "mat1": "r1, c1", "mat2": "c1, c2"},
+    "mju_mulMatMatT": {"res": "r1, r2", "mat1": "r1, c1", "mat2": "r2, c1"},
+    "mju_mulMatTMat": {"res": "c1, c2", "mat1": "r1, c1", "mat2": "r1, c2"},
+    "mju_sqrMatTD": {"res": "nc, nc", "mat": "nr, nc", "diag": "nr"},
+    "mju_dense2sparse": {"res": "nnz", "mat": "nr, nc", "rownnz": "nr", "rowadr": "nr",
+                         "colind": "nnz"},
+    "mju_sparse2dense": {"res": "nr, nc", "mat": "*", "rownnz": "nr", "rowadr": "nr",
+                         "colind": "*"},
+    "mju_sym2dense": {"res": "n, n", "mat": "*", "rownnz": "n", "rowadr": "n", "colind": "*"},
+    "mju_cholFactor": {"mat": "n, n"},
+    "mju_cholSolve": {"res": "n", "mat": "n, n", "vec": "n"},
+    "mju_cholUpdate": {"mat": "n, n", "x": "n"},
+    "mju_cholFactorBand": {"mat": "band_size(ntotal, nband, ndense)"},
+    "mju_cholSolveBand": {"res": "ntotal", "mat": "band_size(ntotal, nband, ndense)",
+                          "vec": "ntotal"},
+    "mju_band2Dense": {"res": "ntotal, ntotal", "mat": "band_size(ntotal, nband, ndense)"},
+    "mju_dense2Band": {"res": "band_size(ntotal, nband, ndense)", "mat": "ntotal, ntotal"},
+    "mju_bandMulMatVec": {"res": "nvec, ntotal", "mat": "band_size(ntotal, nband, ndense)",
+                          "vec": "nvec, ntotal"},
+    "mju_boxQP": {"res": "n", "R": "n*(n+7)", "index": "n", "H": "n, n", "g": "n",
+                  "lower": "n", "upper": "n"},
+    "mju_encodePyramid": {"pyramid": "2*dim", "force": "dim+1", "mu": "dim"},
+    "mju_decodePyramid": {"force": "dim+1", "pyramid": "2*dim", "mu": "dim"},
+    "mju_isZero": {"vec": "n"},
+    "mju_standardNormal": {"num2": "1"},
+    "mju_f2n": {"res": "n", "vec": "n"},
+    "mju_n2f": {"res": "n", "vec": "n"},
+    "mju_d2n": {"res": "n", "vec": "n"},
+    "mju_n2d": {"res": "n", "vec": "n"},
+    "mju_insertionSort": {"list": "n"},
+    "mju_insertionSortInt": {"list": "n"},
+    "mju_strncpy": {"dst": "n"},
+    "mjd_transitionFD": {"A": "2*m.nv+m.na, 2*m.nv+m.na", "B": "2*m.nv+m.na, m.nu",
+                         "C": "m.nsensordata, 2*m.nv+m.na", "D": "m.nsensordata, m.nu"},
+    "mjd_inverseFD": {"DfDq": "m.nv, m.nv", "DfDv": "m.nv, m.nv", "DfDa": "m.nv, m.nv",
+                      "DsDq": "m.nv, m.nsensordata", "DsDv": "m.nv, m.nsensordata",
+                      "DsDa": "m.nv, m.nsensordata", "DmDq": "m.nv, m.nC"},
+    "mjp_getPlugin": {"slot": "1"},
+    "mju_writeResource": {"buffer": "nbytes"},
+    "mjs_makeMesh": {"params": "nparams"},
+    "mjs_setBuffer": {"array": "size"},
+    "mjs_setInt": {"array": "size"},
+    "mjs_appendIntVec": {"array": "size"},
+    "mjs_setFloat": {"array": "size"},
+    "mjs_appendFloatVec": {"array": "size"},
+    "mjs_setDouble": {"array": "size"},
+}
+
+# Size arguments that stay in the Python signature (as in the official
+# bindings), checked against the arrays instead of deduced from them.
+KEEP = {
+    "mj_multiRay": ("nray",),
+    "mju_raySkin": ("nface", "nvert"),
+    "mju_cholSolveBand": ("ntotal",),
+    "mju_band2Dense": ("ntotal",),
+    "mju_dense2Band": ("ntotal",),
+    "mju_bandMulMatVec": ("ntotal", "nvec"),
+}
+
+# Ids that MuJoCo follows without a bounds check: argument -> (lowest, count).
+IDS = {
+    **{name: {"body": (0, "m.nbody")} for name in (
+        "mj_jac", "mj_jacBody", "mj_jacBodyCom", "mj_jacSubtreeCom", "mj_jacPointAxis",
+        "mj_jacDot", "mj_angmomMat", "mj_applyFT")},
+    "mj_jacGeom": {"geom": (0, "m.ngeom")},
+    "mj_jacSite": {"site": (0, "m.nsite")},
+    "mj_insideSite": {"siteid": (0, "m.nsite")},
+    "mj_geomDistance": {"geom1": (0, "m.ngeom"), "geom2": (0, "m.ngeom")},
+    "mj_maxContact": {"g1": (0, "m.ngeom"), "g2": (0, "m.ngeom")},
+    "mj_rayHfield": {"geomid": (0, "m.ngeom")},
+    "mj_rayMesh": {"geomid": (0, "m.ngeom")},
+    "mj_ray": {"bodyexclude": (-1, "m.nbody")},
+    "mj_multiRay": {"bodyexclude": (-1, "m.nbody")},
+    "mj_contactForce": {"id": (0, "d.ncon")},
+    "mj_readCtrl": {"id": (0, "m.nu")},
+    "mj_initCtrlHistory": {"id": (0, "m.nu")},
+    "mj_readSensor": {"id": (0, "m.nsensor")},
+    "mj_initSensorHistory": {"id": (0, "m.nsensor")},
+    "mju_threadpool": {"nthread": (0, "1025")},      # a sanity bound: a failed thread aborts
+}
+
+# Further checks before the call: statements over the converted arguments,
+# calling helpers of mjcffi/_marshal.py.
+CHECKS = {
+    "mju_printMatSparse": ["csr(rownnz, rowadr, colind, min(mat.size, colind.size), None)"],
+    "mju_sparse2dense": ["csr(rownnz, rowadr, colind, min(mat.size, colind.size), nc)"],
+    "mju_sym2dense": ["csr(rownnz, rowadr, colind, min(mat.size, colind.size), n)"],
+    "mju_raySkin": ["below(face, nvert, 'face')"],
+    "mj_addM": ["require(rownnz is None and rowadr is None and colind is None, "
+                "'mj_addM: only the dense form (rownnz, rowadr, colind None) is supported: "
+                "MuJoCo follows a given sparse structure unchecked')"],
+    "mj_objectVelocity": ["object_id(m, objtype, objid)"],
+    "mj_objectAcceleration": ["object_id(m, objtype, objid)"],
+    "mju_strncpy": ["require(n > 0, 'dst must not be empty')"],
+    "mju_Halton": ["index(base, 2 ** 31, 'base', 2)"],     # it divides by base, loops on 1
+    # mjOBJ_UNKNOWN throws a C++ exception through the C API: the process aborts
+    "mjs_firstElement": ["require(type != 0, 'type must not be mjOBJ_UNKNOWN')"],
+}
+
+# (char *error, int error_sz) pairs: the buffer is made here and the Python
+# signature omits both.  func -> (failure test on `ret`, exception, return ret?).
+# FatalError where the official bindings raise it, ValueError elsewhere (as
+# MjModel.from_xml_path does).
+ERRORS = {
+    "mj_parseXML": ("ret == NULL", "ValueError", True),
+    "mj_parseXMLString": ("ret == NULL", "ValueError", True),
+    "mj_parse": ("ret == NULL", "ValueError", True),
+    "mj_encode": ("ret < 0", "ValueError", True),
+    "mj_saveLastXML": ("ret == 0", "FatalError", False),
+    "mj_saveXML": ("ret != 0", "ValueError", False),
+    "mj_setLengthRange": ("ret == 0", "FatalError", False),
+    "mju_writeResource": ("ret < 0", "ValueError", True),
+}
+
+# Results that need more than the generic rule: a Python expression over
+# `ret` (the C result) and the converted arguments.
+RETURNS = {
+    "mj_readCtrl": "copy_array(ret, m.actuator_ctrlnum[id], NUM) if ret != NULL else result",
+    "mj_readSensor": "copy_array(ret, m.sensor_dim[id], NUM) if ret != NULL else result",
+    "mjs_getTimer": "copy_array(ret, mjNCTIMER, NUM)",
+    "mj_copyData": "None",                     # returns dest, as the official bindings: None
+    "mj_stackAllocNum": "ret",                 # raw pointers into the mjData stack
+    "mj_stackAllocInt": "ret",
+}
+
+# New structs that the caller owns: func -> the C function that frees them.
+OWNED = {
+    "mj_parseXML": "mj_deleteSpec",
+    "mj_parseXMLString": "mj_deleteSpec",
+    "mj_parse": "mj_deleteSpec",
+    "mj_makeSpec": "mj_deleteSpec",
+    "mj_copySpec": "mj_deleteSpec",
+}
+
+# Python names that differ from mujoco.h's, as in the official bindings.
+RENAMES = {
+    "mjv_camera2GLCamera": {"model": "m", "data": "d", "mjv_camera": "cam"},
+}
+
+# Arguments left out of the Python signature and passed as a constant.
+OMIT = {
+    "mj_loadAllPluginLibraries": {"callback": "NULL"},   # as the official bindings
+}
+
+# Pointers MuJoCo tests for NULL although the header has no `Nullable:` note.
+NULLABLE = {
+    "mj_addFileVFS": ("directory",),           # functions_override.rst says Nullable
+    "mju_standardNormal": ("num2",),
+    "mjv_updateScene": ("pert",),              # the official bindings pass NULL too
+}
+
+# Hand-written in mjcffi/_overrides.py: the documented Python signature
+# differs from C's, or the result is an MjModel/MjData (hand-written classes).
+OVERRIDES = {
+    "mj_step": "nstep=1 repeats the step in C, under one guard (python.rst); warnings as errors",
+    "mj_forward": "raises MjWarningError on a new warning when warnings are errors",
+    "mj_loadXML": "returns an MjModel; MuJoCo's error becomes ValueError",
+    "mj_loadModel": "returns an MjModel",
+    "mj_loadModelBuffer": "takes bytes, returns an MjModel",
+    "mj_compile": "returns an MjModel; mjs_getError's message becomes ValueError",
+    "mj_copyModel": "returns an MjModel (a new one when dest is None)",
+    "mj_embedAssets": "returns an MjModel",
+    "mj_makeData": "returns an MjData",
+    "mj_loadTexture": "returns (pixels, colorspace), as the official bindings",
+    "mj_saveXMLString": "returns the XML as str",
+    "mj_printSchema": "mj_printSchema(flg_html, flg_pad) returns str, as the official bindings",
+    "mjs_getDouble": "returns a NumPy copy of the vector",
+    "mjr_findRect": "rect is one MjrRect or a sequence of them",
+    "mj_defaultVFS": "resets the VFS, freeing what it held (an MjVFS owns its memory)",
+    "mj_deleteVFS": "empties the VFS, which stays usable (an MjVFS frees it when collected)",
+}
+
+_GL = "needs a current OpenGL context, which mjcffi does not create yet"
+_BATCH = ("the batch API hands out an opaque mjBatch and buffers it owns; it gets its own "
+          "hand-written layer")
+_RESOURCE = "mjResource handles are opened and closed by resource providers in C"
+_SPEC_DEFAULT = ("it is for structs that C code lays out; on an element that its spec owns (the "
+                 "only kind Python has) it clears the pointers the spec manages")
+_SPEC_DEFAULTS = ("Spec", "Body", "Frame", "Joint", "Geom", "Site", "Camera", "Light", "Flex",
+                  "Mesh", "HField", "Skin", "Texture", "Material", "Pair", "Equality", "Tendon",
+                  "Actuator", "Sensor", "Numeric", "Text", "Tuple", "Key", "Plugin")
+
+# Functions the Python layer cannot express safely yet: they raise
+# NotImplementedError with this reason (lib.<name> stays available).
+UNSUPPORTED = {
+    "mj_deleteModel": "an MjModel owns its mjModel and frees it when collected",
+    "mj_deleteData": "an MjData owns its mjData and frees it when collected",
+    "mj_deleteSpec": "an MjSpec owns its mjSpec and frees it when collected",
+    "mj_recompile": "on failure it frees the mjModel and mjData that Python objects own",
+    "mjv_copyData": "its copy lacks arrays that simulation functions read",
+    "mjv_copyModel": "its copy lacks arrays that simulation functions read",
+    "mju_getXMLDependencies": "it fills an mjStringVec, which the C API cannot create or read",
+    "mju_boxQPmalloc": "it allocates raw C arrays (mjtNum **)",
+    "mju_setLogHandler": "it installs a C callback",
+    "mjs_setUserValueWithCleanup": "it takes a C callback",
+    "mjs_setPluginAttributes": "it takes a C++ std::map behind a void *",
+    "mjs_bodyToFrame": "it frees the body it converts (mjsBody **)",
+    "mjui_add": "it takes an mjITEM_END-terminated array of mjuiDef",
+    "mjui_addToSection": "it takes an mjITEM_END-terminated array of mjuiDef",
+    "mjc_distance": "it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers",
+    "mjc_gradient": "it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers",
+    **{name: "it registers C callbacks with MuJoCo" for name in (
+        "mjp_registerPlugin", "mjp_registerProvider", "mjp_registerDecoder",
+        "mjp_registerEncoder", "mjp_registerArchiveProvider")},
+    **{"mjs_default" + kind: _SPEC_DEFAULT for kind in _SPEC_DEFAULTS},
+    **{name: _RESOURCE for name in (
+        "mju_openResource", "mju_closeResource", "mju_readResource", "mju_getResourceDir",
+        "mju_isModifiedResource", "mju_decodeResource", "mjp_findDecoder")},
+    **{name: _GL for name in (
+        "mjr_makeContext", "mjr_freeContext", "mjr_getRendererInfo", "mjr_changeFont",
+        "mjr_addAux", "mjr_resizeOffscreen", "mjr_uploadTexture", "mjr_uploadMesh",
+        "mjr_uploadHField", "mjr_restoreBuffer", "mjr_setBuffer", "mjr_readPixels",
+        "mjr_drawPixels", "mjr_blitBuffer", "mjr_setAux", "mjr_blitAux", "mjr_text",
+        "mjr_overlay", "mjr_rectangle", "mjr_label", "mjr_figure", "mjr_render",
+        "mjr_finish", "mjr_getError", "mjr_maxViewport", "mjui_resize", "mjui_update", "mjui_event",
+        "mjui_render")},
+    **{name: _BATCH for name in (
+        "mjb_makeBatch", "mjb_deleteBatch", "mjb_nstate", "mjb_state", "mjb_stateComponent",
+        "mjb_warning", "mjb_step", "mjb_forward", "mjb_reset", "mjb_status", "mjb_error",
+        "mjb_output", "mjb_expand", "mjb_expanded", "mjb_setConst", "mjb_setModels",
+        "mjb_rollout", "mjb_apply", "mjb_getModel", "mjb_getData", "mjb_nsim",
+        "mjb_nthread", "mjb_persistent", "mjb_model")},
+}
+
+# Helpers of mjcffi/_marshal.py that SHAPES, CHECKS and RETURNS may call.
+_HELPERS = ("state_size", "band_size", "csr", "below", "require", "object_id", "index",
+            "copy_array", "NULL", "NUM")
+
+# C element type of a numeric array -> its Elem in mjcffi/_marshal.py.
+_ELEMS = {"mjtNum": "NUM", "double": "NUM", "float": "FLOAT", "int": "INT",
+          "mjtByte": "BYTE", "unsigned char": "BYTE", "mjtSize": "SIZE", "mjtBool": "BOOL"}
+
+_HEAD = '''"""MuJoCo's functions, one Python function each, with the official bindings' signatures.
+
+Arguments are checked and converted by mjcffi/_marshal.py (see its docstring
+for the rules); every call goes through the guarded C twin
+`lib.mjcffi_guard_<name>`, so that a mju_error raises mjcffi.FatalError.
+Sizes such as mju_add's `n` are deduced from the arrays.  `lib.<name>` is the
+raw C function.
+"""
+
+from . import _marshal as _m
+from . import structs as _structs
+from ._library import lib as _lib
+'''
+
+
+# ----------------------------------------------------------------- model
+
+@dataclass
+class _Arg:
+    name: str               # C name
+    py: str                 # Python parameter name
+    base: str               # element type, e.g. 'mjtNum', 'mjModel'
+    decl: str               # the C type as declared
+    level: int              # pointer levels, array extents counting as one
+    const: bool
+    dims: tuple             # fixed extents
+    nullable: bool
+    kind: str = ""          # see _classify
+
+
+def _is_callback(base, decl, typedefs):
+    """A function pointer, declared as such or through a typedef (mjfLogHandler)."""
+    target = typedefs.get(base, "").lstrip()
+    return "(*" in decl or ("(*" in target and not target.startswith(("struct", "union")))
+
+
+def _classify(arg, described, typedefs):
+    """The marshalling kind of an argument."""
+    if arg.base == "...":
+        return "varargs"
+    if _is_callback(arg.base, arg.decl, typedefs):
+        return "callback"
+    if arg.level == 0:
+        return "struct_value" if arg.base in described else "scalar"
+    if arg.level > 1:
+        return "pointer2"
+    if arg.base == "char":
+        return "text" if arg.const else "chars"
+    if arg.base == "void":
+        return "buffer"
+    if arg.base in _ELEMS:
+        return "array"
+    if arg.base in described:
+        return "struct"
+    return "opaque"
+
+
+def _args(func, note, described, typedefs):
+    nullable = set(note.nullable if note else ()) | set(NULLABLE.get(func.name, ()))
+    renames = RENAMES.get(func.name, {})
+    out = []
+    for a in func.args:
+        t = a.type
+        py = renames.get(a.name, a.name)
+        if keyword.iskeyword(py):
+            py += "_"
+        arg = _Arg(name=a.name, py=py, base=t.base, decl=t.decl,
+                   level=t.pointer + (1 if t.dims else 0), const=t.const,
+                   dims=tuple(t.dims), nullable=a.name in nullable)
+        arg.kind = _classify(arg, described, typedefs)
+        out.append(arg)
+    return out
+
+
+def _defines(header_texts, decls):
+    """Integer constants usable in SHAPES: #define numbers and enum members."""
+    values = {}
+    for text in header_texts.values():
+        for name, value in re.findall(r"^\s*#\s*define\s+(\w+)\s+\(?(-?\d+)\)?\s*(?://.*)?$",
+                                      text, re.M):
+            values.setdefault(name, int(value))
+    for enum in decls.enums.values():
+        for name, value in enum.members:
+            values.setdefault(name, value)
+    return values
+
+
+# -------------------------------------------------------- expressions
+
+class _Exprs:
+    """Translates the table expressions into Python for one function."""
+
+    def __init__(self, args, constants):
+        self.struct_names = {a.py for a in args if a.kind in ("struct", "struct_value")}
+        self.constants = constants
+
+    def __call__(self, expr):
+        def word(match):
+            name = match.group(0)
+            if name[0] in "'\"":
+                return name                         # a string literal
+            if match.start() > 0 and match.string[match.start() - 1] == ".":
+                return name                         # an attribute: m.nv stays .nv
+            if name in self.struct_names:
+                return "c_" + name
+            if name in _HELPERS and (name.isupper() or
+                                     match.string[match.end():].lstrip().startswith("(")):
+                return "_m." + name                 # a helper call, or NULL / NUM
+            if name in self.constants:
+                return str(self.constants[name])
+            return name
+        return re.sub(r"'[^']*'|\"[^\"]*\"|[A-Za-z_]\w*", word, expr)
+
+
+_VAR = re.compile(r"^(?:(\d+)\s*\*\s*)?([A-Za-z_]\w*)$")
+
+
+def _split_dims(spec):
+    """'n, m.nv' -> ['n', 'm.nv']; commas inside brackets (helper calls) do not split."""
+    dims, depth, start = [], 0, 0
+    for i, char in enumerate(spec):
+        if char in "([":
+            depth += 1
+        elif char in ")]":
+            depth -= 1
+        elif char == "," and depth == 0:
+            dims.append(spec[start:i].strip())
+            start = i + 1
+    dims.append(spec[start:].strip())
+    return dims
+
+
+def _deducible(dim, sizes):
+    """(var, factor) when `dim` is `var` or `K*var` for a size argument."""
+    match = _VAR.match(dim)
+    if match and match.group(2) in sizes:
+        return match.group(2), int(match.group(1) or 1)
+    return None
+
+
+def _human(spec):
+    """A shape for the docstring: 'm.nv' -> 'nv'."""
+    dims = _split_dims(spec)
+    text = ", ".join(re.sub(r"\b[md]\.", "", d) for d in dims)
+    return f"({text})" if len(dims) > 1 else f"({text},)"
+
+
+# ------------------------------------------------------------ writers
+
+def _docstring(doc, notes, indent="    "):
+    body = outputs._doc_literal(doc or "(no header comment)")
+    if notes:
+        body += "\n\n" + "\n".join(notes)
+    lines = body.splitlines()
+    if len(lines) == 1:
+        return f'{indent}"""{lines[0]}"""'
+    rest = "\n".join((indent + line) if line else "" for line in lines[1:])
+    return f'{indent}"""{lines[0]}\n{rest}\n{indent}"""'
+
+
+def _signature(params):
+    """Python parameter list; trailing nullable arguments default to None."""
+    parts, optional = [], True
+    for py, nullable in reversed(params):
+        optional = optional and nullable
+        parts.append(f"{py}=None" if optional else py)
+    return ", ".join(reversed(parts))
+
+
+class _Function:
+    """Writes one generated function."""
+
+    def __init__(self, func, note, described, typedefs, constants):
+        self.func = func
+        self.name = func.name
+        self.doc = note.doc if note else ""
+        self.args = _args(func, note, described, typedefs)
+        self.described = described
+        self.typedefs = typedefs
+        self.constants = constants
+        self.expr = _Exprs(self.args, constants)
+        self.shapes = SHAPES.get(self.name, {})
+        unknown = set(self.shapes) - {a.name for a in self.args}
+        if unknown:
+            raise ValueError(f"SHAPES[{self.name}] names unknown arguments {sorted(unknown)}")
+        self.lines = []
+        self.notes = []
+
+    # which arguments leave the signature
+    def _omitted(self):
+        scalars = {a.name for a in self.args if a.kind == "scalar"}
+        keep = set(KEEP.get(self.name, ()))
+        sizes = set()
+        for spec in self.shapes.values():
+            for d in _split_dims(spec):
+                found = _deducible(d, scalars)
+                if found and found[0] not in keep:
+                    sizes.add(found[0])
+        errors = set()
+        for i, a in enumerate(self.args):
+            if a.kind == "chars" and a.name == "error" and i + 1 < len(self.args):
+                errors |= {a.name, self.args[i + 1].name}
+        return sizes, errors, set(OMIT.get(self.name, {}))
+
+    def unsupported_reason(self):
+        """Why the generic rules cannot write this function, or None."""
+        sizes, errors, omit = self._omitted()
+        for a in self.args:
+            if a.name in omit or a.name in errors:
+                continue
+            if a.kind in ("callback", "pointer2"):
+                return f"argument {a.name} ({a.decl}) has no generic rule"
+            if a.kind in ("array", "chars") and not a.dims and a.name not in self.shapes:
+                return f"argument {a.name} ({a.decl}) has no extent in SHAPES"
+        if self.name in ERRORS and not errors:
+            raise ValueError(f"ERRORS[{self.name}]: it has no (error, error_sz) pair")
+        if errors and self.name not in ERRORS:
+            return "its (error, error_sz) pair has no ERRORS entry"
+        ret = self.func.restype
+        if self.name in RETURNS:
+            return None
+        if ret.pointer and ret.base in _ELEMS:
+            return f"its result ({ret.decl}) has no extent in RETURNS"
+        if ret.pointer and ret.base in ("mjModel", "mjData"):
+            return "it returns an mjModel or mjData: write it in _overrides.py"
+        if ret.pointer > 1 or _is_callback(ret.base, ret.decl, self.typedefs):
+            return f"its result ({ret.decl}) has no generic rule"
+        return None
+
+    # ------------------------------------------------------------ body
+
+    def emit(self, line=""):
+        """One line of the body."""
+        self.lines.append("    " + line if line else "")
+
+    def write(self):
+        """Emit the body; return the Python parameters as (name, nullable)."""
+        sizes, errors, omit = self._omitted()
+        params = [(a.py, a.nullable) for a in self.args
+                  if a.name not in sizes | errors | set(omit) and a.kind != "varargs"]
+        body_names = {a.py for a in self.args}
+        for local in ("ret", "status", "exc", "error", "error_sz"):
+            if local in body_names and local not in errors:
+                raise ValueError(f"{self.name}: argument {local!r} clashes with a local name")
+
+        self._structs()
+        for a in self.args:
+            if a.kind == "text":
+                conv = "opt_text" if a.nullable else "text"
+                self.emit(f'c_{a.py} = _m.{conv}({a.py}, "{a.py}")')
+            elif a.kind == "opaque" or (a.kind == "buffer" and a.name not in self.shapes):
+                self.emit(f'c_{a.py} = _m.opaque({a.py}, "{a.py}", {a.nullable})')
+        for var in KEEP.get(self.name, ()):
+            self.emit(f'{var} = _m.count({var}, "{var}")')
+        for argname, (low, count) in IDS.get(self.name, {}).items():
+            py = next(a.py for a in self.args if a.name == argname)
+            self.emit(f'_m.index({py}, {self.expr(count)}, "{py}", {low})')
+            self.notes.append(f"{py} must be within {low}..{re.sub(r'^[md][.]', '', count)}-1.")
+        self._arrays(sizes)
+        for statement in CHECKS.get(self.name, ()):
+            self.emit(self.expr(statement))
+        if errors:
+            self.emit("error, error_sz = _m.error_buffer()")
+        self._call(errors, omit)
+        return params
+
+    def _structs(self):
+        """Struct arguments; each mjData is checked against the function's mjModel."""
+        model = next((a for a in self.args if a.kind == "struct" and a.base == "mjModel"
+                      and not a.nullable), None)
+        datas = [a for a in self.args if a.kind == "struct" and a.base == "mjData"
+                 and not a.nullable] if model else []
+        if datas:
+            first = datas[0]
+            self.emit(f'c_{model.py}, c_{first.py} = _m.model_data({model.py}, {first.py}, '
+                      f'"{model.py}", "{first.py}")')
+            for d in datas[1:]:
+                self.emit(f'c_{d.py} = _m.data_of({model.py}, {d.py}, "{model.py}", "{d.py}")')
+            self.notes.append(f"{', '.join(d.py for d in datas)} must be made for "
+                              f"{model.py} (or for a model of the same sizes).")
+        done = {id(a) for a in datas} | ({id(model)} if datas else set())
+        for a in self.args:
+            if id(a) in done:
+                continue
+            if a.kind == "struct_value":
+                self.emit(f'c_{a.py} = _m.struct_value({a.py}, "{a.base}", "{a.py}")')
+            elif a.kind == "struct":
+                conv = "opt_struct" if a.nullable else "struct"
+                self.emit(f'c_{a.py} = _m.{conv}({a.py}, "{a.base}", "{a.py}")')
+
+    def _arrays(self, sizes):
+        """Convert the arrays; deduce the sizes; check every array's extents.
+
+        Arrays that give a size are converted first; the others are converted
+        with their expected extents, so that one call converts and checks.
+        """
+        arrays = [a for a in self.args if a.kind in ("array", "chars", "buffer")
+                  and a.name != "error" and (a.dims or a.name in self.shapes)]
+        specs = {a.name: _split_dims(self.shapes[a.name]) if a.name in self.shapes
+                 else [str(n) for n in a.dims] for a in arrays}
+        order = [a.name for a in self.args]
+        chains = {}
+        for var in sorted(sizes, key=order.index):
+            binders = []
+            for a in arrays:
+                for axis, d in enumerate(specs[a.name]):
+                    found = _deducible(d, {var})
+                    if found:
+                        binders.append((a, len(specs[a.name]), axis, found[1]))
+                        break
+            if not binders:
+                raise ValueError(f"{self.name}: no array gives size {var}")
+            # prefer arrays that are always given, then sizes read from flat
+            # (1-D) dims, then inputs: the most lenient about the layout of others
+            binders.sort(key=lambda b: (b[0].nullable, b[1] > 1, not b[0].const))
+            chain = []
+            for binder in binders:
+                chain.append(binder)
+                if not binder[0].nullable:
+                    break
+            chains[var] = chain
+        first = {b[0].name for chain in chains.values() for b in chain}
+
+        def convert(a, dims):
+            direction = "in" if a.const else "out"
+            if a.kind in ("buffer", "chars"):
+                conv = f"opt_buffer_{direction}" if a.nullable else f"buffer_{direction}"
+                self.emit(f'c_{a.py}, nbytes_{a.py} = _m.{conv}({a.py}, "{a.py}")')
+                return
+            conv = f"opt_{direction}" if a.nullable else f"array_{direction}"
+            extra = f", {dims}" if dims else ""
+            self.emit(f'{a.py}, c_{a.py} = _m.{conv}({a.py}, _m.{_ELEMS[a.base]}, '
+                      f'"{a.py}"{extra})')
+
+        def extents(a):
+            dims = specs[a.name]
+            if dims == ["*"] or a.kind in ("buffer", "chars"):
+                return None
+            if len(dims) == 1:
+                return self.expr(dims[0])
+            return "(" + ", ".join(self.expr(d) for d in dims) + ")"
+
+        for a in arrays:                          # the arrays that give sizes
+            if a.name in first:
+                convert(a, None)
+        for var, chain in chains.items():
+            for i, (a, ndims, axis, factor) in enumerate(chain):
+                if a.kind in ("buffer", "chars"):
+                    value = f"nbytes_{a.py} // {factor}" if factor > 1 else f"nbytes_{a.py}"
+                else:
+                    value = f'_m.dim({a.py}, {ndims}, {axis}, {factor}, "{a.py}")'
+                self.emit(f"{var} = {value}" if i == 0 else f"if {var} is None:")
+                if i:
+                    self.emit(f"    {var} = {value}")
+            if chain[-1][0].nullable:
+                self.emit(f"if {var} is None:")
+                self.emit(f"    {var} = 0")
+        for a in arrays:
+            dims = extents(a)
+            if a.name not in first:
+                convert(a, dims)
+            elif dims is not None:
+                self.emit(f'_m.shape({a.py}, {dims}, "{a.py}")')
+            if a.kind not in ("buffer", "chars") and specs[a.name] != ["*"]:
+                shape = _human(", ".join(specs[a.name]))
+                self.notes.append(f"{a.py}: {'output ' if not a.const else ''}array of shape "
+                                  f"{shape}{' or None' if a.nullable else ''}.")
+
+    def _call(self, errors, omit):
+        values = []
+        scalars = []
+        for a in self.args:
+            if a.kind == "varargs":
+                continue
+            if a.name in omit:
+                values.append(self.expr(OMIT[self.name][a.name]))
+            elif a.name == "error":
+                values.append("error")
+            elif a.name in errors:
+                values.append("error_sz")
+            elif a.kind == "scalar":
+                values.append(a.py)
+                scalars.append(a)
+            else:
+                values.append(f"c_{a.py}")
+        ret = self.func.restype
+        void = ret.decl == "void"
+        target = "status" if void else "ret"
+        indent = "        " if scalars else "    "
+        call = _wrapped(f"{target} = _lib.mjcffi_guard_{self.name}(", values, ")", indent)
+        if scalars:
+            entries = [f'"{a.py}": ("{a.decl}", {a.py})' for a in scalars]
+            self.emit("try:")
+            self.emit("    " + call)
+            self.emit("except (TypeError, OverflowError) as exc:")
+            self.emit("    " + _wrapped(f'raise _m.scalar_error(exc, "{self.name}", {{',
+                                        entries, "}) from None", indent))
+        else:
+            self.emit(call)
+        if void:
+            self.emit("_m.check(status)")
+            return
+        self.emit("_m.check_error()")
+        if self.name in ERRORS:
+            test, exc, returns = ERRORS[self.name]
+            exc = "_m.FatalError" if exc == "FatalError" else exc
+            self.emit(f"if {self.expr(test)}:")
+            self.emit(f'    raise {exc}(_m.error_text(error, "{self.name}"))')
+            if not returns:
+                return
+        self.emit(f"return {self._result(ret)}")
+
+    def _result(self, ret):
+        if self.name in RETURNS:
+            return self.expr(RETURNS[self.name])
+        if ret.pointer == 0:
+            if ret.base in self.described:
+                return f"_m.struct_copy(_structs.{class_name(ret.base)}, ret)"
+            return "ret"
+        if ret.base == "char":
+            return "_m.string(ret)"
+        if ret.base in self.described:
+            cls = f"_structs.{class_name(ret.base)}"
+            if self.name in OWNED:
+                return f"_m.own({cls}, ret, _lib.{OWNED[self.name]})"
+            owner = next((a.py for a in self.args if a.kind == "struct"), "None")
+            return f"_m.wrap({cls}, ret, {owner})"
+        return "None if ret == _m.NULL else ret"     # raw handle or void *
+
+
+def _wrapped(head, items, tail, indent, width=100):
+    """`head` + comma-separated `items` + `tail`, broken over lines to fit `width`."""
+    line = head + ", ".join(items) + tail
+    if len(indent) + len(line) <= width:
+        return line
+    lines, current = [head.rstrip()], indent + "    "
+    for item in items:
+        piece = item + ","
+        if len(current) + len(piece) + 1 > width and current.strip():
+            lines.append(current.rstrip())
+            current = indent + "    "
+        current += piece + " "
+    lines.append(current.rstrip().rstrip(",") + tail)
+    return ("\n").join(lines)
+
+
+def _unsupported(func, note, reason, described, typedefs):
+    args = [a for a in _args(func, note, described, typedefs) if a.kind != "varargs"]
+    params = _signature([(a.py, a.nullable) for a in args])
+    notes = textwrap.wrap(f"Not available in mjcffi: {reason}.", 92)
+    doc = _docstring(note.doc if note else "",
+                     notes + [f"The raw C function is mjcffi.lib.{func.name}."])
+    return "\n".join([
+        f"def {func.name}({params}):",
+        doc,
+        "    raise NotImplementedError(",
+        f"        {func.name + ': ' + reason!r})",
+    ])
+
+
+def generate(decls, notes, described, header_texts):
+    """{"mjcffi/_functions.py": text} for every function of the parsed headers."""
+    constants = _defines(header_texts, decls)
+    for table in (SHAPES, KEEP, IDS, CHECKS, ERRORS, RETURNS, OWNED, RENAMES, OMIT,
+                  NULLABLE, OVERRIDES, UNSUPPORTED):
+        unknown = set(table) - set(decls.functions)
+        if unknown:
+            raise ValueError(f"special-case table names unknown functions {sorted(unknown)}")
+    both = set(OVERRIDES) & set(UNSUPPORTED)
+    if both:
+        raise ValueError(f"both overridden and unsupported: {sorted(both)}")
+
+    blocks = []
+    for name, func in decls.functions.items():
+        note = notes.functions.get(name)
+        if name in OVERRIDES:          # hand-written: mjcffi/functions.py puts it in place
+            continue
+        if name in UNSUPPORTED:
+            blocks.append(_unsupported(func, note, UNSUPPORTED[name], described,
+                                       decls.typedefs))
+            continue
+        writer = _Function(func, note, described, decls.typedefs, constants)
+        reason = writer.unsupported_reason()
+        if reason:
+            raise ValueError(f"{name}: {reason}; add it to SHAPES, OVERRIDES or UNSUPPORTED")
+        params = writer.write()
+        header = f"def {name}({_signature(params)}):"
+        blocks.append("\n".join([header, _docstring(writer.doc, writer.notes)]
+                                + writer.lines))
+    text = outputs.HEADER_PY + _HEAD + "\n\n" + "\n\n\n".join(blocks) + "\n"
+    return {"mjcffi/_functions.py": text}

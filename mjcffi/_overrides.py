@@ -1,0 +1,251 @@
+"""The MuJoCo functions whose Python form is written by hand.
+
+mjcffi/functions.py puts these in place of generated ones (codegen skips them);
+codegen/functions.py's OVERRIDES table says why each is here.  They follow
+the official bindings' documented Python signatures where those exist, and
+return the hand-written MjModel/MjData classes where MuJoCo returns a new
+mjModel/mjData.  Each docstring holds the Python notes only: mjcffi/functions.py
+puts the header's doc comment above it.
+
+Like the generated functions they call only guarded C functions, so that a
+mju_error raises FatalError.
+"""
+
+import numpy as np
+
+from . import _marshal as _m
+from . import callbacks as _callbacks
+from . import warning_errors as _warnings
+from ._library import ffi, lib
+
+_step = lib.mjcffi_step
+
+
+def mj_step(m, d, nstep=1):
+    """Python: `nstep` steps in one call, looped in C under one guard with the GIL
+    released, as in the official bindings.  d must be made for m (or a model of
+    the same sizes).  With mjcffi.set_warnings_as_errors(True), a MuJoCo warning
+    during the call raises MjWarningError."""
+    try:                                 # the hot path: d made for m, no warnings check
+        fast = d._model is m and not _warnings._enabled
+    except AttributeError:
+        fast = False
+    if not fast:
+        return _step_checked(m, d, nstep)
+    try:
+        status = _step(m._ptr, d._ptr, nstep)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mj_step", {"nstep": ("int", nstep)}) from None
+    if status or _callbacks._pending:
+        _m.check(status)
+
+
+def _step_checked(m, d, nstep):
+    """mj_step for any other case: checks m and d, and warnings when asked."""
+    c_m, c_d = _m.model_data(m, d)
+    before = _warnings.before_call(d) if _warnings._enabled else None
+    try:
+        status = _step(c_m, c_d, nstep)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mj_step", {"nstep": ("int", nstep)}) from None
+    _m.check(status)
+    if before is not None:
+        _warnings.after_call(d, before)
+
+
+def mj_forward(m, d):
+    """Python: d must be made for m (or a model of the same sizes).  With
+    mjcffi.set_warnings_as_errors(True), a MuJoCo warning during the call raises
+    MjWarningError."""
+    c_m, c_d = _m.model_data(m, d)
+    before = _warnings.before_call(d) if _warnings._enabled else None
+    _m.check(lib.mjcffi_guard_mj_forward(c_m, c_d))
+    if before is not None:
+        _warnings.after_call(d, before)
+
+
+# ------------------------------------------------------------ new models
+
+def _model(pointer):
+    """An MjModel owning `pointer`, a new mjModel."""
+    from .model import MjModel       # the hand-written layer: imported on use
+    root = ffi.gc(pointer, lib.mj_deleteModel)
+    return MjModel._wrap(root, root)
+
+
+def mj_loadXML(filename, vfs=None):
+    """Python: returns an MjModel; MuJoCo's error message becomes ValueError."""
+    c_filename = _m.text(filename, "filename")
+    c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
+    error, error_sz = _m.error_buffer()
+    ret = lib.mjcffi_guard_mj_loadXML(c_filename, c_vfs, error, error_sz)
+    _m.check_error()
+    if ret == _m.NULL:
+        raise ValueError(_m.error_text(error, "mj_loadXML"))
+    return _model(ret)
+
+
+def mj_loadModel(filename, vfs=None):
+    """Python: returns an MjModel; ValueError if MuJoCo cannot load the file."""
+    c_filename = _m.text(filename, "filename")
+    c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
+    ret = lib.mjcffi_guard_mj_loadModel(c_filename, c_vfs)
+    _m.check_error()
+    if ret == _m.NULL:
+        raise ValueError(f"MuJoCo could not load the MJB file {filename!r}")
+    return _model(ret)
+
+
+def mj_loadModelBuffer(buffer):
+    """Python: takes bytes-like MJB content (buffer_sz is its length); returns an MjModel."""
+    c_buffer, nbytes = _m.buffer_in(buffer, "buffer")
+    ret = lib.mjcffi_guard_mj_loadModelBuffer(c_buffer, nbytes)
+    _m.check_error()
+    if ret == _m.NULL:
+        raise ValueError("MuJoCo could not load the MJB buffer")
+    return _model(ret)
+
+
+def mj_compile(s, vfs=None):
+    """Python: returns an MjModel; on failure, mjs_getError's message becomes ValueError."""
+    c_s = _m.struct(s, "mjSpec", "s")
+    c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
+    ret = lib.mjcffi_guard_mj_compile(c_s, c_vfs)
+    _m.check_error()
+    if ret == _m.NULL:
+        raise ValueError(_m.string(lib.mjs_getError(c_s)) or "mj_compile failed")
+    return _model(ret)
+
+
+def mj_copyModel(dest, src):
+    """Python: dest None returns a new MjModel; otherwise dest, an MjModel of the
+    same sizes as src, receives the copy and is returned."""
+    c_src = _m.struct(src, "mjModel", "src")
+    if dest is None:
+        ret = lib.mjcffi_guard_mj_copyModel(_m.NULL, c_src)
+        _m.check_error()
+        return _model(ret)
+    c_dest = _m.struct(dest, "mjModel", "dest")
+    if ffi.buffer(c_dest, _m._SIZES)[:] != ffi.buffer(c_src, _m._SIZES)[:]:
+        raise ValueError("dest must have the same sizes as src")
+    lib.mjcffi_guard_mj_copyModel(c_dest, c_src)
+    _m.check_error()
+    return dest
+
+
+def mj_embedAssets(m):
+    """Python: returns a new MjModel; MuJoCo's error message becomes ValueError."""
+    c_m = _m.struct(m, "mjModel", "m")
+    error, error_sz = _m.error_buffer()
+    ret = lib.mjcffi_guard_mj_embedAssets(c_m, error, error_sz)
+    _m.check_error()
+    if ret == _m.NULL:
+        raise ValueError(_m.error_text(error, "mj_embedAssets"))
+    return _model(ret)
+
+
+def mj_makeData(m):
+    """Python: returns MjData(m)."""
+    from .data import MjData
+    return MjData(m)
+
+
+# ----------------------------------------------------------------- VFS
+
+def mj_defaultVFS(vfs):
+    """Python: an MjVFS is initialized when made and freed when collected; this
+    empties it (what it held is freed), and it stays usable."""
+    c_vfs = _m.struct(vfs, "mjVFS", "vfs")
+    _m.check(lib.mjcffi_guard_mj_deleteVFS(c_vfs))    # deleted, then made anew:
+    _m.check(lib.mjcffi_guard_mj_defaultVFS(c_vfs))   # empty and usable
+
+
+def mj_deleteVFS(vfs):
+    """Python: frees the files in the VFS and leaves it empty and usable: a
+    deleted VFS that MuJoCo reads again would crash, and the MjVFS frees its
+    memory when collected."""
+    mj_defaultVFS(vfs)
+
+
+# ----------------------------------------------------------- other shapes
+
+def mj_loadTexture(m, id):
+    """Python: returns (pixels, colorspace), pixels a uint8 array of shape
+    (height, width, nchannel), as the official bindings; ValueError on failure."""
+    c_m = _m.struct(m, "mjModel", "m")
+    _m.index(id, c_m.ntex, "id")
+    data = ffi.new("mjtByte **")
+    width, height, colorspace = ffi.new("int *"), ffi.new("int *"), ffi.new("int *")
+    error, error_sz = _m.error_buffer()
+    ret = lib.mjcffi_guard_mj_loadTexture(c_m, id, data, width, height, colorspace,
+                                          error, error_sz)
+    try:
+        _m.check_error()
+        if ret != 0:
+            raise ValueError(_m.error_text(error, "mj_loadTexture"))
+        nchannel = c_m.tex_nchannel[id]
+        pixels = np.frombuffer(ffi.buffer(data[0], height[0] * width[0] * nchannel),
+                               np.uint8).reshape(height[0], width[0], nchannel).copy()
+    finally:
+        if data[0] != _m.NULL:
+            lib.mju_free(data[0])
+    return pixels, colorspace[0]
+
+
+def mj_saveXMLString(s):
+    """Python: returns the XML as str; MuJoCo's error message becomes ValueError."""
+    c_s = _m.struct(s, "mjSpec", "s")
+    size = 1 << 16
+    while True:
+        xml = ffi.new("char[]", size)
+        error, error_sz = _m.error_buffer()
+        ret = lib.mjcffi_guard_mj_saveXMLString(c_s, xml, size, error, error_sz)
+        _m.check_error()
+        if ret == 0:
+            return ffi.string(xml).decode("utf-8")
+        if ret < 0:
+            raise ValueError(_m.error_text(error, "mj_saveXMLString"))
+        size = ret + 1                  # the size it needs
+
+
+def mj_printSchema(flg_html, flg_pad):
+    """Python: mj_printSchema(flg_html, flg_pad) returns the schema as str, as the
+    official bindings (no file, no buffer)."""
+    size = 1 << 16
+    while True:
+        buffer = ffi.new("char[]", size)
+        try:
+            ret = lib.mjcffi_guard_mj_printSchema(_m.NULL, buffer, size, flg_html, flg_pad)
+        except (TypeError, OverflowError) as exc:
+            raise _m.scalar_error(exc, "mj_printSchema", {"flg_html": ("int", flg_html),
+                                                          "flg_pad": ("int", flg_pad)}) from None
+        _m.check_error()
+        if ret < size - 1:
+            return ffi.string(buffer, ret).decode("utf-8")
+        size *= 4
+
+
+def mjs_getDouble(source):
+    """Python: returns a NumPy copy of the mjDoubleVec `source` (a raw handle)."""
+    c_source = _m.opaque(source, "source")
+    size = ffi.new("int *")
+    ret = lib.mjcffi_guard_mjs_getDouble(c_source, size)
+    _m.check_error()
+    return _m.copy_array(ret, size[0], _m.NUM)
+
+
+def mjr_findRect(x, y, nrect, rect):
+    """Python: rect is one MjrRect or a sequence of at least nrect of them."""
+    rects = list(rect) if isinstance(rect, (list, tuple)) else [rect]
+    nrect = _m.count(nrect, "nrect")
+    if nrect > len(rects):
+        raise ValueError(f"nrect={nrect} but rect holds {len(rects)} rectangles")
+    array = ffi.new("mjrRect[]", max(len(rects), 1))
+    for i, r in enumerate(rects):
+        array[i] = _m.struct_value(r, "mjrRect", f"rect[{i}]")
+    try:
+        ret = lib.mjcffi_guard_mjr_findRect(x, y, nrect, array)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_findRect", {"x": ("int", x), "y": ("int", y)}) from None
+    _m.check_error()
+    return ret

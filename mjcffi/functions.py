@@ -1,0 +1,29 @@
+"""MuJoCo's functions as Python functions: `mjcffi.mj_step`, `mjcffi.mj_jac`, ...
+
+Most are generated (mjcffi/_functions.py); the few whose documented Python
+signature differs from C are hand-written (mjcffi/_overrides.py) and take
+their place here, with the header's doc comment above their own notes.
+`mjcffi` itself resolves a function name through this module on first use.
+"""
+
+from . import _functions, _funcinfo, _overrides
+
+NAMES = tuple(_funcinfo.FUNCTIONS)
+
+
+def _document(function, name):
+    """Put the header's doc comment above a hand-written function's own notes."""
+    header = _funcinfo.FUNCTIONS[name].doc
+    own = function.__doc__
+    function.__doc__ = header + ("\n\n" + own if own else "")
+    return function
+
+
+for _name in NAMES:
+    if hasattr(_overrides, _name):
+        globals()[_name] = _document(getattr(_overrides, _name), _name)
+    else:
+        globals()[_name] = getattr(_functions, _name)
+del _name
+
+__all__ = list(NAMES)
