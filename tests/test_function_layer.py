@@ -478,7 +478,7 @@ def scratch_dir(tmp_path_factory):
     os.chdir(previous)
 
 
-@settings(max_examples=10_000, deadline=None, database=None,
+@settings(max_examples=10_000, deadline=None, database=None, derandomize=True,
           suppress_health_check=list(HealthCheck))
 @given(data=st.data())
 def test_fuzz_bad_arguments_raise_type_or_value_error(scratch_dir, data):
