@@ -1,9 +1,9 @@
 """python -m mjcffi: simulate a scene with mjcffi and with the official bindings.
 
 Steps the same model through both bindings in one process, on the same
-libmujoco, and prints steps per second for each (medians of interleaved
-rounds) and whether the two trajectories are bit-identical.  Exits 1 if they
-are not: any difference is a bug in mjcffi.
+libmujoco, with the same random controls, and prints steps per second for
+each (medians of interleaved rounds) and whether the two trajectories are
+bit-identical.  Exits 1 if they are not: any difference is a bug in mjcffi.
 """
 
 import argparse
@@ -13,44 +13,37 @@ import time
 
 import numpy as np
 
-from . import _loading, scenes
-from ._library import ffi, lib
-
-
-def _view(pointer, n):
-    """A float64 NumPy view of n mjtNum at `pointer` (no copy)."""
-    return np.frombuffer(ffi.buffer(pointer, 8 * n), dtype=np.float64)
+import mjcffi
+from mjcffi import scenes
 
 
 def _controls(nu, nstep, seed=0):
     return np.random.default_rng(seed).uniform(-1.0, 1.0, size=(nstep, nu))
 
 
-def _run_mjcffi(m, d, controls):
-    ctrl, trajectory = _view(d.ctrl, m.nu), []
-    lib.mj_resetData(m, d)
-    for row in controls:
-        ctrl[:] = row
-        lib.mj_step(m, d)
-        trajectory.append(np.concatenate([_view(d.qpos, m.nq), _view(d.qvel, m.nv)]))
-    return np.array(trajectory)
-
-
-def _run_official(mujoco, m, d, controls):
-    trajectory = []
-    mujoco.mj_resetData(m, d)
+def _trajectory(module, m, d, controls):
+    """[qpos, qvel] after each step, through `module`'s public API alone."""
+    module.mj_resetData(m, d)
+    rows = []
     for row in controls:
         d.ctrl[:] = row
-        mujoco.mj_step(m, d)
-        trajectory.append(np.concatenate([d.qpos, d.qvel]))
-    return np.array(trajectory)
+        module.mj_step(m, d)
+        rows.append(np.concatenate([d.qpos, d.qvel]))
+    return np.array(rows)
 
 
-def _steps_per_second(step, nstep):
+def _steps_per_second(module, m, d, nstep):
+    step = module.mj_step
     start = time.perf_counter()
     for _ in range(nstep):
-        step()
+        step(m, d)
     return nstep / (time.perf_counter() - start)
+
+
+def _load(module, xml_path):
+    if xml_path:
+        return module.MjModel.from_xml_path(xml_path)
+    return module.MjModel.from_xml_string(scenes.DEFAULT)
 
 
 def main(argv=None):
@@ -64,34 +57,29 @@ def main(argv=None):
 
     import mujoco   # the official bindings, from the same mujoco-core wheel
 
-    if args.xml:
-        try:
-            ours = _loading.load_xml_path(args.xml)
-        except ValueError as exc:
-            parser.exit(2, f"python -m mjcffi: cannot load {args.xml}: {exc}\n")
-        theirs, name = mujoco.MjModel.from_xml_path(args.xml), args.xml
-    else:
-        ours = _loading.load_xml_string(scenes.DEFAULT)
-        theirs = mujoco.MjModel.from_xml_string(scenes.DEFAULT)
-        name = "embedded default scene"
-    our_data = ffi.gc(lib.mj_makeData(ours), lib.mj_deleteData)
-    their_data = mujoco.MjData(theirs)
-
-    print(f"mjcffi on MuJoCo {ffi.string(lib.mj_versionString()).decode()}: {name} "
+    try:
+        ours = _load(mjcffi, args.xml)
+    except ValueError as exc:
+        parser.exit(2, f"python -m mjcffi: cannot load {args.xml}: {exc}\n")
+    theirs = _load(mujoco, args.xml)
+    our_data, their_data = mjcffi.MjData(ours), mujoco.MjData(theirs)
+    name = args.xml or "embedded default scene"
+    print(f"mjcffi {mjcffi.__version__} on MuJoCo {mjcffi.mj_versionString()}: {name} "
           f"(nq={ours.nq}, nv={ours.nv}, nu={ours.nu})")
 
     controls = _controls(ours.nu, args.steps)
-    a = _run_mjcffi(ours, our_data, controls)
-    b = _run_official(mujoco, theirs, their_data, controls)
+    a = _trajectory(mjcffi, ours, our_data, controls)
+    b = _trajectory(mujoco, theirs, their_data, controls)
     identical = a.shape == b.shape and a.tobytes() == b.tobytes()
 
     mine, official = [], []
     for _ in range(args.rounds):
-        mine.append(_steps_per_second(lambda: lib.mj_step(ours, our_data), args.steps))
-        official.append(_steps_per_second(lambda: mujoco.mj_step(theirs, their_data), args.steps))
+        mine.append(_steps_per_second(mjcffi, ours, our_data, args.steps))
+        official.append(_steps_per_second(mujoco, theirs, their_data, args.steps))
     mine, official = statistics.median(mine), statistics.median(official)
 
-    print(f"steps/s, median of {args.rounds} interleaved rounds of {args.steps} steps:")
+    print(f"mj_step from a Python loop, steps/s, median of {args.rounds} interleaved rounds "
+          f"of {args.steps}:")
     print(f"  mjcffi    {mine:12,.0f}")
     print(f"  official  {official:12,.0f}")
     print(f"  ratio     {mine / official:12.2f}x  (mjcffi / official)")
