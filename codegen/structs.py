@@ -22,6 +22,10 @@ _NUMERIC_OR_CHAR = _NUMERIC | {"char"}
 _EAGER = {"mjData": ("qpos", "qvel", "act", "ctrl", "qacc", "qfrc_applied", "xfrc_applied",
                      "mocap_pos", "mocap_quat", "sensordata", "xpos", "xquat")}
 
+# The public classes of these structs are hand-written subclasses (loading,
+# copying, pickling); the generated ones are their bases and are not exported.
+_EXTENDED = {"mjModel": "mjcffi/model.py", "mjData": "mjcffi/data.py"}
+
 # char arrays of NUL-separated strings, shown as bytes as the official bindings do
 _STRING_BLOBS = {"names", "paths", "text_data"}
 
@@ -308,7 +312,8 @@ def generate(described, decls, header_texts, notes):
         refs, body = set(), []
         for struct in modules[module]:
             body += _class(ctx, struct, refs) + ["", ""]
-            exports[class_name(struct)] = module
+            if struct not in _EXTENDED:
+                exports[class_name(struct)] = module
         others = sorted({ctx.module_of(r) for r in refs} - {module})
         deps[module] = others
         head = [outputs.HEADER_PY.rstrip("\n"),
@@ -319,12 +324,21 @@ def generate(described, decls, header_texts, notes):
             names = sorted({class_name(r) for r in refs if ctx.module_of(r) == other})
             head.append(f"from .{other} import {', '.join(names)}")
         head.append("")
-        head.append("__all__ = [" + ", ".join(repr(class_name(s)) for s in modules[module]) + "]")
+        public = [class_name(s) for s in modules[module] if s not in _EXTENDED]
+        head.append("__all__ = [" + ", ".join(repr(name) for name in public) + "]")
         head += ["", ""]
         files[f"mjcffi/structs/{module}.py"] = "\n".join(head + body).rstrip("\n") + "\n"
     _check_acyclic(deps)
     files["mjcffi/structs/__init__.py"] = _package(exports)
+    files["mjcffi/structs/__init__.pyi"] = _package_stub(order)
     return files
+
+
+def _package_stub(modules):
+    """The type stub of the lazy package: what its __getattr__ can return."""
+    lines = [outputs.HEADER_PY.rstrip("\n")]
+    lines += [f"from .{module} import *" for module in modules]
+    return "\n".join(lines) + "\n"
 
 
 _VIEWS_NAMES = ("Array", "DynamicArray", "FixedArray", "FixedRecords", "Nested", "Records",

@@ -55,7 +55,7 @@ def main(argv=None):
     if args.steps < 1 or args.rounds < 1:
         parser.error("--steps and --rounds must be positive")
 
-    import mujoco   # the official bindings, from the same mujoco-core wheel
+    import mujoco  # type: ignore[import-untyped]  # the official bindings (mujoco-core)
 
     try:
         ours = _load(mjcffi, args.xml)

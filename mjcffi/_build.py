@@ -9,7 +9,7 @@ exact libmujoco of the mujoco-core wheel.
 import importlib.util
 import pathlib
 
-from cffi import FFI
+from cffi import FFI  # type: ignore[import-untyped]
 
 HERE = pathlib.Path(__file__).resolve().parent
 MUJOCO_LIBRARY = "libmujoco.so.4.0.0"   # mujoco-core==4.0.0 ships no unversioned .so

@@ -104,7 +104,7 @@ def scalar_error(exc, func, scalars):
 
 # ---------------------------------------------------------------- structs
 
-_POINTER_TYPES = {}
+_POINTER_TYPES: dict = {}
 
 
 def _pointer_type(cname):

@@ -18,6 +18,11 @@ from . import callbacks as _callbacks
 from . import warning_errors as _warnings
 from ._library import ffi, lib
 
+__all__ = ["mj_step", "mj_forward", "mj_loadXML", "mj_loadModel", "mj_loadModelBuffer",
+           "mj_compile", "mj_copyModel", "mj_embedAssets", "mj_makeData", "mj_defaultVFS",
+           "mj_deleteVFS", "mj_loadTexture", "mj_saveXMLString", "mj_printSchema",
+           "mjs_getDouble", "mjr_findRect"]
+
 _step = lib.mjcffi_step
 
 

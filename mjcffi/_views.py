@@ -17,14 +17,14 @@ from ._errors import check, raise_pending
 from ._library import ffi
 
 # C element type (MuJoCo's name or cffi's resolved one) -> NumPy dtype.
-DTYPES = {
+_TYPES = {
     "mjtNum": np.float64, "double": np.float64, "float": np.float32,
     "int": np.int32, "unsigned int": np.uint32, "mjtSize": np.int64, "int64_t": np.int64,
     "size_t": np.uintp, "uintptr_t": np.uintp, "uint64_t": np.uint64,
     "mjtByte": np.uint8, "unsigned char": np.uint8, "char": np.int8,
     "mjtBool": np.bool_, "_Bool": np.bool_,
 }
-DTYPES = {name: np.dtype(t) for name, t in DTYPES.items()}
+DTYPES = {name: np.dtype(t) for name, t in _TYPES.items()}
 
 
 class _Memory:
@@ -76,7 +76,7 @@ def record_view(pointer, dtype, count, root):
 
 # ------------------------------------------------------------ struct records
 
-_RECORD_DTYPES = {}
+_RECORD_DTYPES: dict = {}
 
 
 def _field_dtype(ctype):
@@ -274,11 +274,12 @@ class Struct:
     unknown attribute is an AttributeError rather than a silent new one.
     """
 
-    _cname = None                 # C type name, e.g. 'mjOption'
-    _repr_fields = ()             # fields shown by repr()
-    _plain = True                 # no pointers inside: copy and pickle by bytes
-    _bounds = {}                  # scalar -> the scalar bounding it (ngeom <= maxgeom)
-    _eager = {}                   # fields built when wrapped (see above)
+    _cname: str = ""              # C type name, e.g. 'mjOption'
+    _ctype: object = None         # its cffi type
+    _repr_fields: tuple = ()      # fields shown by repr()
+    _plain: bool = True           # no pointers inside: copy and pickle by bytes
+    _bounds: dict = {}            # scalar -> the scalar bounding it (ngeom <= maxgeom)
+    _eager: dict = {}             # fields built when wrapped (see above)
 
     def __init__(self):
         """A new struct of this type, zero-initialized."""

@@ -78,8 +78,8 @@ __all__ = [
 # wrapper, and the wrapper keeps the root's memory alive: an address in here
 # is never stale.
 
-_MODELS = {}
-_DATAS = {}
+_MODELS: dict = {}
+_DATAS: dict = {}
 
 
 def _track(wrapper):
@@ -115,7 +115,7 @@ def _wrappers(m, d):
 # ------------------------------------------------------ stashed exceptions
 
 _lock = threading.Lock()
-_errors = {}          # thread (None: MuJoCo's pool threads) -> first exception
+_errors: dict = {}    # thread (None: MuJoCo's pool threads) -> first exception
 _pending = False      # bool(_errors): the only thing the fast path reads
 _Foreign = getattr(threading, "_DummyThread", ())    # threads Python did not start
 

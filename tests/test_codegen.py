@@ -14,7 +14,7 @@ def _committed_generated():
     """Files of the package that say they are generated."""
     found = []
     for path in sorted((REPO / "mjcffi").rglob("*")):
-        if path.suffix in (".py", ".h", ".c") and path.is_file():
+        if path.suffix in (".py", ".pyi", ".h", ".c") and path.is_file():
             with open(path) as f:
                 if MARKER in f.readline():
                     found.append(str(path.relative_to(REPO)))

@@ -6,7 +6,7 @@ from numpy import ndarray
 from .._views import (Array, DynamicArray, FixedArray, FixedRecords, Records, Struct, eager,
                       pointer, scalar, struct_type)
 
-__all__ = ['MjPreContact', 'MjContact', 'MjWarningStat', 'MjTimerStat', 'MjSolverStat', 'MjData']
+__all__ = ['MjPreContact', 'MjContact', 'MjWarningStat', 'MjTimerStat', 'MjSolverStat']
 
 
 class MjPreContact(Struct):

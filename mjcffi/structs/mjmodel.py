@@ -4,7 +4,7 @@
 from .._library import ffi, lib
 from .._views import Array, FixedArray, Nested, Struct, chars, pointer, scalar, struct_type
 
-__all__ = ['MjLROpt', 'MjCache', 'MjVFS', 'MjOption', 'MjVisual', 'MjVisualGlobal', 'MjVisualQuality', 'MjVisualHeadlight', 'MjVisualMap', 'MjVisualScale', 'MjVisualRgba', 'MjStatistic', 'MjModel']
+__all__ = ['MjLROpt', 'MjCache', 'MjVFS', 'MjOption', 'MjVisual', 'MjVisualGlobal', 'MjVisualQuality', 'MjVisualHeadlight', 'MjVisualMap', 'MjVisualScale', 'MjVisualRgba', 'MjStatistic']
 
 
 class MjLROpt(Struct):
