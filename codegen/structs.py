@@ -30,8 +30,10 @@ _EXTENDED = {"mjModel": "mjcffi/model.py", "mjData": "mjcffi/data.py"}
 _STRING_BLOBS = {"names", "paths", "text_data"}
 
 # Structs whose memory MuJoCo allocates and frees itself: no Python constructor here
-# (mjcffi.MjModel and mjcffi.MjData add theirs), or that only live inside an mjSpec.
-_NOT_CONSTRUCTIBLE = re.compile(r"^(mjModel|mjData|mjSpec|mjs[A-Z]\w*)$")
+# (mjcffi.MjModel and mjcffi.MjData add theirs).  Spec elements live inside an
+# mjSpec; a zero-filled mjCache, mjResource or mjSDF has NULL internals that
+# MuJoCo would dereference.
+_NOT_CONSTRUCTIBLE = re.compile(r"^(mjModel|mjData|mjSpec|mjs[A-Z]\w*|mjCache|mjResource|mjSDF)$")
 
 
 def class_name(cname):

@@ -40,6 +40,9 @@ class MjCache(Struct):
     _repr_fields = ()
     _plain = False
 
+    def __init__(self, *args, **kwargs):
+        raise TypeError('MjCache has no constructor: MuJoCo creates it')
+
     impl_ = pointer('impl_', 'internal pointer to cache')
 
 

@@ -15,6 +15,9 @@ class MjResource(Struct):
     _repr_fields = ()
     _plain = False
 
+    def __init__(self, *args, **kwargs):
+        raise TypeError('MjResource has no constructor: MuJoCo creates it')
+
     name = pointer('name', 'name of resource (filename, etc)')
     data = pointer('data', 'opaque data pointer')
     vfs = pointer('vfs', 'pointer to the VFS')
@@ -131,6 +134,9 @@ class MjSDF(Struct):
     _ctype = struct_type('mjSDF')
     _repr_fields = ('type',)
     _plain = False
+
+    def __init__(self, *args, **kwargs):
+        raise TypeError('MjSDF has no constructor: MuJoCo creates it')
 
     plugin = pointer('plugin', '')
     id = pointer('id', '')
