@@ -2,9 +2,12 @@
 // Compiled into mjcffi._mjcffi by mjcffi/_build.py; declared in _helper.h.
 
 #include <setjmp.h>
+#include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 
 #include <mujoco/mujoco.h>
+#include <mujoco/mjxmacro.h>
 
 #include "_helper.h"
 
@@ -115,5 +118,44 @@ int mjcffi_step(const mjModel* m, mjData* d, int nstep) {
     mj_step(m, d);
   }
   mjcffi_guard_leave(&guard, 0);
+  return 0;
+}
+
+
+// Unpickling an mjData: `dest` is a fresh mj_makeData of the same model.  Copy
+// the saved struct whole (scalars, counters, statistics), then move each of
+// its pointers from the saved allocation onto dest's own buffer and arena,
+// using mjxmacro.h's lists of them, and copy the buffer and the used arena.
+static void* mjcffi_rebase(const void* p, uintptr_t old, size_t size, void* now) {
+  uintptr_t address = (uintptr_t)p;
+  if (!p || address < old || address >= old + size) return NULL;
+  return (char*)now + (address - old);
+}
+
+int mjcffi_restore_data(mjData* dest, const char* header, const char* buffer,
+                        const char* arena, size_t arena_used) {
+  const mjData* saved = (const mjData*)header;
+  if (saved->nbuffer != dest->nbuffer || saved->narena != dest->narena ||
+      arena_used > dest->narena) {
+    return 1;
+  }
+  void* buffer_now = dest->buffer;
+  void* arena_now = dest->arena;
+  uintptr_t buffer_old = (uintptr_t)saved->buffer;
+  uintptr_t arena_old = (uintptr_t)saved->arena;
+  memcpy(dest, saved, sizeof(mjData));
+  dest->buffer = buffer_now;
+  dest->arena = arena_now;
+  dest->threadpool = 0;
+#define X(type, name, nr, nc) \
+  dest->name = (type*)mjcffi_rebase(saved->name, buffer_old, saved->nbuffer, buffer_now);
+  MJDATA_POINTERS
+#undef X
+#define X(type, name, nr, nc) \
+  dest->name = (type*)mjcffi_rebase(saved->name, arena_old, saved->narena, arena_now);
+  MJDATA_ARENA_POINTERS
+#undef X
+  memcpy(buffer_now, buffer, dest->nbuffer);
+  memcpy(arena_now, arena, arena_used);
   return 0;
 }

@@ -15,3 +15,10 @@ const char* mjcffi_take_error(void);
    it): 0 when all steps ran, 1 when an mju_error was caught.  After 1, d is
    left mid-step; see mjcffi/_errors.py for how to make it usable again. */
 int mjcffi_step(const mjModel* m, mjData* d, int nstep);
+
+/* Unpickle an mjData into `dest`, a fresh mj_makeData of the same model: the
+   saved struct (`header`, sizeof(mjData) bytes), its buffer (nbuffer bytes)
+   and the used part of its arena, with every pointer moved onto dest's own
+   memory.  Returns 0, or 1 when the sizes do not match dest. */
+int mjcffi_restore_data(mjData* dest, const char* header, const char* buffer,
+                        const char* arena, size_t arena_used);

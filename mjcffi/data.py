@@ -6,20 +6,12 @@ adds construction from a model, copying and pickling.
 
 import copy
 
-import numpy as np
-
-from . import _structinfo
 from ._library import ffi, lib
 from ._views import guarded_result, struct_pointer
 from .callbacks import _track
 from .structs import mjdata
 
-# Unpickling rebases mjData's pointer fields, seen as 8-byte words of the struct.
 _SIZE = ffi.sizeof("mjData")
-_WORD = {name: ffi.offsetof("mjData", name) // 8 for name in ("buffer", "arena", "nbuffer",
-                                                                "narena")}
-_POINTER_WORDS = np.array([ffi.offsetof("mjData", f.name) // 8
-                           for f in _structinfo.STRUCTS["mjData"] if f.kind == "pointer"])
 
 
 class MjData(mjdata.MjData):
@@ -67,31 +59,11 @@ class MjData(mjdata.MjData):
 
 
 def _unpickle(model, header, buffer, arena):
-    """Rebuild an MjData from its pickled bytes, with its pointers rebased.
-
-    The saved struct is copied whole (scalars, counters, fixed arrays); each
-    pointer field is then moved from the saved buffer or arena onto the new
-    data's own, as one vectorized operation over the struct's pointer words.
-    """
+    """Rebuild an MjData from its pickled bytes (mjcffi_restore_data moves its
+    pointers onto the new data's own memory)."""
     data = MjData(model)
-    new = data._ptr
-    if len(header) != _SIZE:
-        raise ValueError(f"pickled mjData header has {len(header)} bytes, expected {_SIZE}")
-    saved = np.frombuffer(header, np.uint64)
-    words = np.frombuffer(ffi.buffer(new, _SIZE), np.uint64)
-    sizes = saved[_WORD["nbuffer"]], saved[_WORD["narena"]]
-    if sizes != (new.nbuffer, new.narena) or len(buffer) != new.nbuffer:
+    if len(header) != _SIZE or len(buffer) != data._ptr.nbuffer:
+        raise ValueError("pickled MjData does not fit its model (struct or buffer sizes differ)")
+    if lib.mjcffi_restore_data(data._ptr, header, buffer, arena, len(arena)):
         raise ValueError("pickled MjData does not fit its model (buffer or arena sizes differ)")
-    old_buffer, old_arena = saved[_WORD["buffer"]], saved[_WORD["arena"]]
-    new_buffer, new_arena = words[_WORD["buffer"]], words[_WORD["arena"]]
-    pointers = saved[_POINTER_WORDS]
-    in_buffer = (pointers >= old_buffer) & (pointers < old_buffer + sizes[0])
-    in_arena = (pointers >= old_arena) & (pointers < old_arena + sizes[1])
-    rebased = np.where(in_buffer, pointers - old_buffer + new_buffer,
-                       np.where(in_arena, pointers - old_arena + new_arena, 0))
-    words[:] = saved
-    words[_POINTER_WORDS] = rebased
-    new.threadpool = 0
-    ffi.memmove(new.buffer, buffer, len(buffer))
-    ffi.memmove(new.arena, arena, len(arena))
     return data

@@ -292,3 +292,14 @@ def test_binary_round_trip(tmp_path):
     assert again.body_pos.tobytes() == m.body_pos.tobytes()
     with pytest.raises(ValueError, match="MJB"):
         mjcffi.MjModel.from_binary_path(tmp_path / "missing.mjb")
+
+
+def test_unpickling_onto_a_model_of_other_sizes_is_refused():
+    small = mjcffi.MjModel.from_xml_string(PENDULUM)
+    path = next(p for p in gymnasium_assets() if p.name == "ant.xml")
+    big = mjcffi.MjModel.from_xml_path(path)
+    _, (model, *rest) = mjcffi.MjData(big).__reduce__()
+    with pytest.raises(ValueError, match="does not fit its model"):
+        mjcffi.data._unpickle(small, *rest)
+    with pytest.raises(ValueError, match="does not fit its model"):
+        mjcffi.data._unpickle(big, rest[0][:-8], *rest[1:])
