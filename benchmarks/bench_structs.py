@@ -3,13 +3,12 @@ MjData construction, copy and pickle."""
 
 import copy
 import pickle
-import timeit
 
 import mujoco
 
 import mjcffi
 
-from .common import interleaved
+from .common import interleaved, per_call
 
 PENDULUM = """
 <mujoco>
@@ -30,14 +29,6 @@ CASES = [
 ]
 
 
-def _timer(namespace, statement, calls):
-    timer = timeit.Timer(statement, globals=namespace)
-
-    def run():
-        return timer.timeit(calls) / calls
-    return run
-
-
 def _namespace(module):
     m = module.MjModel.from_xml_string(PENDULUM)
     d = module.MjData(m)
@@ -56,8 +47,8 @@ def run(rounds=15):
         "|---|---:|---:|---:|---:|",
     ]
     for label, statement, calls, target in CASES:
-        medians = interleaved({"mjcffi": _timer(ours, statement, calls),
-                               "official": _timer(theirs, statement, calls)}, rounds)
+        medians = interleaved({"mjcffi": per_call(statement, ours, calls),
+                               "official": per_call(statement, theirs, calls)}, rounds)
         a, b = medians["mjcffi"], medians["official"]
         lines.append(f"| {label} | {_fmt(a)} | {_fmt(b)} | {a / b:.2f} | {target} |")
     return lines
