@@ -33,3 +33,12 @@ def test_bad_arguments_are_reported_not_crashed(tmp_path):
     assert "missing.xml" in result.stderr and "Traceback" not in result.stderr
     result = _run("--steps", "0")
     assert result.returncode == 2 and "positive" in result.stderr
+
+
+def test_the_readme_example_runs():
+    text = (REPO / "README.md").read_text()
+    example = text.split("```python\n", 1)[1].split("```", 1)[0]
+    assert "mj_step" in example and "mj_jac" in example
+    result = subprocess.run([sys.executable, "-c", example], cwd=REPO, capture_output=True,
+                            text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
