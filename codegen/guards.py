@@ -16,33 +16,17 @@ import re
 
 from .outputs import HEADER_C
 
-# The interface to mjcffi/_helper.c.  It is declared here, not in _helper.h,
-# because cffi's cdef reads _helper.h and cannot parse jmp_buf; _helper.c
-# defines the same struct (tests/test_fatal_error.py checks that they agree).
-GUARD_STRUCT = """\
-typedef struct mjcffi_guard_ {
-  jmp_buf env;                  /* where a caught mju_error lands */
-  struct mjcffi_guard_* outer;  /* enclosing guard on this thread, or NULL */
-  mjfLogHandler handler;        /* thread-local log handler to restore on exit */
-} mjcffi_guard;"""
-
 _C_HEAD = """\
 /* One guard per MuJoCo function: the same call, with mju_error turned into a
    return.  The machinery is in _helper.c; mjcffi_take_error() gives the message. */
 
-#include <setjmp.h>
 #include <string.h>
 
 #include <mujoco/mujoco.h>
 #include <mujoco/mjbatch.h>
 
+#include "_guard_chain.h"
 #include "_guards.h"
-
-/* Defined in _helper.c: the guards on a thread form a chain, innermost first;
-   enter arms one, leave disarms it, with caught=1 after a longjmp to it. */
-""" + GUARD_STRUCT + """
-void mjcffi_guard_enter(mjcffi_guard* guard);
-void mjcffi_guard_leave(mjcffi_guard* guard, int caught);
 """
 
 _H_HEAD = """\

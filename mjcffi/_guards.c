@@ -2,23 +2,13 @@
 /* One guard per MuJoCo function: the same call, with mju_error turned into a
    return.  The machinery is in _helper.c; mjcffi_take_error() gives the message. */
 
-#include <setjmp.h>
 #include <string.h>
 
 #include <mujoco/mujoco.h>
 #include <mujoco/mjbatch.h>
 
+#include "_guard_chain.h"
 #include "_guards.h"
-
-/* Defined in _helper.c: the guards on a thread form a chain, innermost first;
-   enter arms one, leave disarms it, with caught=1 after a longjmp to it. */
-typedef struct mjcffi_guard_ {
-  jmp_buf env;                  /* where a caught mju_error lands */
-  struct mjcffi_guard_* outer;  /* enclosing guard on this thread, or NULL */
-  mjfLogHandler handler;        /* thread-local log handler to restore on exit */
-} mjcffi_guard;
-void mjcffi_guard_enter(mjcffi_guard* guard);
-void mjcffi_guard_leave(mjcffi_guard* guard, int caught);
 
 int mjcffi_guard_mj_defaultVFS(mjVFS *vfs) {
   mjcffi_guard mjcffi_g;

@@ -9,6 +9,7 @@
 #include <mujoco/mujoco.h>
 #include <mujoco/mjxmacro.h>
 
+#include "_guard_chain.h"
 #include "_helper.h"
 
 // The import-time check compares this with mj_version(): the header version
@@ -36,17 +37,6 @@ int mjcffi_header_version(void) {
 // previous one; and read the global one (mju_setLogHandler's, or the default).
 mjfLogHandler _mjPRIVATE_setTlsLogHandler(mjfLogHandler handler);
 mjfLogHandler _mjPRIVATE_getGlobalLogHandler(void);
-
-// Also declared, identically, at the top of the generated _guards.c (cffi's
-// cdef cannot parse jmp_buf, so it cannot go in _helper.h).
-typedef struct mjcffi_guard_ {
-  jmp_buf env;                  /* where a caught mju_error lands */
-  struct mjcffi_guard_* outer;  /* enclosing guard on this thread, or NULL */
-  mjfLogHandler handler;        /* thread-local log handler to restore on exit */
-} mjcffi_guard;
-
-void mjcffi_guard_enter(mjcffi_guard* guard);
-void mjcffi_guard_leave(mjcffi_guard* guard, int caught);
 
 // One record per thread: a guard, its error and its message never cross threads.
 typedef struct {

@@ -101,12 +101,6 @@ def test_generator_takes_funcinfo_as_well():
         assert text == (REPO / relpath).read_text(), relpath
 
 
-def test_guard_struct_agrees_with_helper():
-    from codegen.guards import GUARD_STRUCT
-    helper = (REPO / "mjcffi" / "_helper.c").read_text()
-    assert GUARD_STRUCT in helper
-
-
 def test_mju_error_raises_with_mujocos_message():
     with pytest.raises(FatalError) as caught:
         check(lib.mjcffi_guard_mju_error(b"bad thing 100% (%d %s)"))
