@@ -7,7 +7,8 @@ the output is committed, and a test fails when it drifts.
 import argparse
 import pathlib
 
-from . import comments, extents, fields, functions, guards, headers, outputs, parse, structs
+from . import (comments, extents, fields, functions, guards, headers, named, outputs, parse,
+               structs)
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -29,6 +30,7 @@ def generate():
         **guards.generate(decls.functions),
         **structs.generate(described, decls, header_texts, notes),
         **functions.generate(decls, notes, described, header_texts),
+        **named.generate(described),
     }
 
 

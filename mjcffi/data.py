@@ -9,18 +9,20 @@ import copy
 from ._library import ffi, lib
 from ._views import guarded_result, struct_pointer
 from .callbacks import _track
+from .named import MjDataNames, NamedAccess
 from .structs import mjdata
 
 _SIZE = ffi.sizeof("mjData")
 
 
-class MjData(mjdata.MjData):
+class MjData(NamedAccess, MjDataNames, mjdata.MjData):
     """The simulation state of a model (mjData): `MjData(model)`.
 
     Arrays such as `d.qpos` are zero-copy NumPy views, built on first use and
     cached; `d.contact` and the `efc_*` arrays are rebuilt on each read
     because their size changes every step.  `d.model` is the model it was
-    made for.
+    made for.  Named access: `d.joint('hinge').qpos`, and one such method per
+    name category that has mjData fields (mjcffi/named.py).
     """
 
     def __init__(self, model):

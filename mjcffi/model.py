@@ -9,16 +9,18 @@ from . import _loading
 from ._library import ffi, lib
 from ._views import guarded_result
 from .callbacks import _track
+from .named import MjModelNames, NamedAccess
 from .structs import mjmodel
 
 
-class MjModel(mjmodel.MjModel):
+class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
     """A compiled model (mjModel).
 
     MjModel has no constructor: use `MjModel.from_xml_path`,
     `MjModel.from_xml_string` or `MjModel.from_binary_path`.  Arrays such as
     `m.body_pos` are zero-copy NumPy views of the model's memory; sizes such
-    as `m.nq` are read-only.
+    as `m.nq` are read-only.  Named access: `m.geom('ball').rgba`, and one such
+    method per name category (mjcffi/named.py).
     """
 
     @classmethod
