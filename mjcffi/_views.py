@@ -1,10 +1,10 @@
 """Zero-copy NumPy views of MuJoCo memory, and the pieces the generated struct
 classes (mjcffi/structs/) are made of.
 
-A support module: it imports only the compiled module and NumPy.  Every view
-keeps the memory it shows alive: its base is a small holder referencing the
-*root* cdata (the gc-owned `mjData *`, `mjModel *` or `ffi.new` struct),
-never a Python wrapper, so a view cached on a wrapper makes no cycle.
+A support module: it imports only the compiled module, _errors and NumPy.
+Every view keeps the memory it shows alive by referencing the *root* cdata
+(the gc-owned `mjData *`, `mjModel *` or `ffi.new` struct), never a Python
+wrapper, so a view cached on a wrapper makes no cycle (see `view`).
 """
 
 import keyword
