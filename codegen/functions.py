@@ -274,8 +274,8 @@ OVERRIDES = {
 }
 
 _GL = "needs a current OpenGL context, which mjcffi does not create yet"
-_BATCH = ("the batch API hands out an opaque mjBatch and buffers it owns; it gets its own "
-          "hand-written layer")
+_BATCH = ("the batch API hands out an opaque mjBatch and buffers it owns: use "
+          "mjcffi.batch.Batch (from mjcffi import batch)")
 _RESOURCE = "mjResource handles are opened and closed by resource providers in C"
 _SPEC_DEFAULT = ("it is for structs that C code lays out; on an element that its spec owns (the "
                  "only kind Python has) it clears the pointers the spec manages")

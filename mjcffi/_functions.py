@@ -6634,264 +6634,264 @@ def mjb_defaultConfig(config):
 def mjb_makeBatch(m, nsim, config, error, error_sz):
     """Allocate a batch of nsim simulations of a copy of m; return NULL and write error on failure.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_makeBatch.
     """
     raise NotImplementedError(
-        'mjb_makeBatch: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_makeBatch: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_deleteBatch(b):
     """Free a batch.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_deleteBatch.
     """
     raise NotImplementedError(
-        'mjb_deleteBatch: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_deleteBatch: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_nstate(b):
     """Return size of a state row: mj_stateSize(m, mjSTATE_INTEGRATION).
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_nstate.
     """
     raise NotImplementedError(
-        'mjb_nstate: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_nstate: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_state(b):
     """Return state rows (nsim x nstate), in mj_getState order.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_state.
     """
     raise NotImplementedError(
-        'mjb_state: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_state: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_stateComponent(b, component, size=None):
     """Return address of a state component (one mjtState bit) in the first row; rows are nstate apart.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_stateComponent.
     """
     raise NotImplementedError(
-        'mjb_stateComponent: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_stateComponent: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_warning(b):
     """Return warning counters (nsim x mjNWARNING).
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_warning.
     """
     raise NotImplementedError(
-        'mjb_warning: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_warning: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_step(b, ids, nid, nstep, stage):
     """Advance simulations by nstep calls to mj_step, then compute stages up to stage (mjtStage);
     return number of failed simulations.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_step.
     """
     raise NotImplementedError(
-        'mjb_step: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_step: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_forward(b, ids, nid, stage):
     """Compute stages up to stage (mjtStage) on simulations; return number of failed simulations.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_forward.
     """
     raise NotImplementedError(
-        'mjb_forward: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_forward: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_reset(b, ids, nid, key, stage):
     """Reset simulations to keyframes (key, per simulation; -1 or NULL: defaults), then compute stages;
     return number failed.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_reset.
     """
     raise NotImplementedError(
-        'mjb_reset: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_reset: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_status(b):
     """Return status of each simulation's last call (nsim): nonzero if it raised an error.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_status.
     """
     raise NotImplementedError(
-        'mjb_status: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_status: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_error(b, sim):
     """Return error message of simulation's last call, or "" if none.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_error.
     """
     raise NotImplementedError(
-        'mjb_error: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_error: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_output(b, name, size=None, elemsize=None):
     """Copy mjData field out after every call; return its storage (nsim x size), NULL if invalid.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_output.
     """
     raise NotImplementedError(
-        'mjb_output: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_output: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_expand(b, name, size=None, elemsize=None):
     """Give mjModel field per-simulation values; return its storage (nsim x size), NULL if invalid.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_expand.
     """
     raise NotImplementedError(
-        'mjb_expand: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_expand: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_expanded(b, name, size=None, elemsize=None):
     """Return storage (nsim x size) of mjModel field if expanded, without expanding it; NULL if not.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_expanded.
     """
     raise NotImplementedError(
-        'mjb_expanded: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_expanded: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_setConst(b, ids, nid):
     """Run mj_setConst on each simulation's model; return number of failed simulations.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_setConst.
     """
     raise NotImplementedError(
-        'mjb_setConst: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_setConst: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_setModels(b, models=None):
     """Run simulation i on models[i], the caller's, instead of the batch's model; NULL: the batch's.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_setModels.
     """
     raise NotImplementedError(
-        'mjb_setModels: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_setModels: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_rollout(b, ids, nid, nstep, control, control_spec, record, nrecord):
     """Advance simulations with per-substep controls and records; return number failed.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_rollout.
     """
     raise NotImplementedError(
-        'mjb_rollout: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_rollout: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_apply(b, ids, nid, func, arg, save):
     """Run func on each simulation, saving the state if save is nonzero; return number failed.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_apply.
     """
     raise NotImplementedError(
-        'mjb_apply: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_apply: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_getModel(b, sim, m):
     """Write simulation sim's model into m, which has the batch's sizes, such as a copy of mjb_model.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_getModel.
     """
     raise NotImplementedError(
-        'mjb_getModel: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_getModel: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_getData(b, sim, d):
     """Write simulation sim's state into d, which has the batch's sizes; persistent: its whole mjData.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_getData.
     """
     raise NotImplementedError(
-        'mjb_getData: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_getData: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_nsim(b):
     """Return number of simulations.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_nsim.
     """
     raise NotImplementedError(
-        'mjb_nsim: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_nsim: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_nthread(b):
     """Return number of threads, including the caller's.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_nthread.
     """
     raise NotImplementedError(
-        'mjb_nthread: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_nthread: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_persistent(b):
     """Return 1 if the batch keeps one mjData per simulation, 0 otherwise.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_persistent.
     """
     raise NotImplementedError(
-        'mjb_persistent: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_persistent: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_model(b):
     """Return the batch's copy of the model.
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns; it
-    gets its own hand-written layer.
+    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+    mjcffi.batch.Batch (from mjcffi import batch).
     The raw C function is mjcffi.lib.mjb_model.
     """
     raise NotImplementedError(
-        'mjb_model: the batch API hands out an opaque mjBatch and buffers it owns; it gets its own hand-written layer')
+        'mjb_model: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
