@@ -3,7 +3,7 @@
 import argparse
 import pathlib
 
-from . import bench_import, bench_named, bench_step, bench_structs
+from . import bench_batch, bench_import, bench_named, bench_rollout, bench_step, bench_structs
 from .common import environment
 
 RESULTS = pathlib.Path(__file__).resolve().parent / "RESULTS.md"
@@ -21,7 +21,8 @@ def main(argv=None):
              "is faster). The machine is "
              "shared and noisy: read the ratios, not the absolute times.", ""]
     lines += environment() + [""]
-    for bench in (bench_import, bench_step, bench_structs, bench_named):
+    for bench in (bench_import, bench_step, bench_structs, bench_named, bench_rollout,
+                  bench_batch):
         lines += bench.run() + [""]
     text = "\n".join(lines)
     print(text)

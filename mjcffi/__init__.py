@@ -38,7 +38,14 @@ _LAZY = {
 }
 
 
+# submodules offered as attributes, as the official `mujoco.rollout` and `mujoco.batch`
+_SUBMODULES = ("rollout", "batch")
+
+
 def __getattr__(name):
+    if name in _SUBMODULES:
+        value = globals()[name] = importlib.import_module(f".{name}", __name__)
+        return value
     module = _LAZY.get(name)
     if module is None and name.startswith("mj"):
         functions = importlib.import_module(".functions", __name__)
@@ -59,4 +66,5 @@ def __getattr__(name):
 def __dir__():
     structs = importlib.import_module(".structs", __name__)
     functions = importlib.import_module(".functions", __name__)
-    return sorted(set(globals()) | set(_LAZY) | set(structs.MODULES) | set(functions.NAMES))
+    return sorted(set(globals()) | set(_LAZY) | set(_SUBMODULES) | set(structs.MODULES)
+                  | set(functions.NAMES))
