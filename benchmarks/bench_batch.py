@@ -14,18 +14,10 @@ import numpy as np
 from mujoco import batch as official_batch
 
 import mjcffi
-from mjcffi import batch
+from mjcffi import batch, scenes
 
 from .common import interleaved, per_call
 
-PENDULUM = """
-<mujoco>
-  <worldbody>
-    <body><joint name="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -1" size=".05"/></body>
-  </worldbody>
-  <actuator><motor joint="hinge"/></actuator>
-</mujoco>
-"""
 
 
 def _humanoid_path():
@@ -95,9 +87,9 @@ def run(rounds=15):
         for nthread in threads:
             lines.append(_row("humanoid", humanoid, 16, 10, nthread, rounds, 5))
     for nthread in threads:
-        lines.append(_row("pendulum", PENDULUM, 8, 1, nthread, rounds, 2000))
+        lines.append(_row("pendulum", scenes.PENDULUM, 8, 1, nthread, rounds, 2000))
     for nthread in threads:
-        lines.append(_row("pendulum", PENDULUM, 1024, 1, nthread, rounds, 50))
+        lines.append(_row("pendulum", scenes.PENDULUM, 1024, 1, nthread, rounds, 50))
     return lines
 
 

@@ -16,21 +16,10 @@ import numpy as np
 from mujoco import rollout as official_rollout
 
 import mjcffi
-from mjcffi import rollout as mjcffi_rollout
+from mjcffi import rollout as mjcffi_rollout, scenes
 
 from .common import interleaved
 
-PENDULUM = """
-<mujoco>
-  <worldbody>
-    <body>
-      <joint name="hinge" axis="0 1 0"/>
-      <geom type="capsule" fromto="0 0 0 0 0 -1" size=".05"/>
-    </body>
-  </worldbody>
-  <actuator><motor joint="hinge"/></actuator>
-</mujoco>
-"""
 
 
 def _humanoid_path():
@@ -116,8 +105,8 @@ def run(rounds=11):
     models = [
         ("humanoid", lambda module: module.MjModel.from_xml_path(humanoid), 16, 50, 2),
         ("pendulum, short (per-call cost)", lambda module: module.MjModel.from_xml_string(
-            PENDULUM), 4, 10, 500),
-        ("pendulum, long", lambda module: module.MjModel.from_xml_string(PENDULUM), 64, 100, 5),
+            scenes.PENDULUM), 4, 10, 500),
+        ("pendulum, long", lambda module: module.MjModel.from_xml_string(scenes.PENDULUM), 64, 100, 5),
     ]
     counts = thread_counts()
     lines = ["## `rollout` throughput", "",

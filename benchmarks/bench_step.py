@@ -12,13 +12,6 @@ from mjcffi import scenes
 
 from .common import interleaved, per_call
 
-PENDULUM = """
-<mujoco>
-  <worldbody>
-    <body><joint type="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -1" size=".05"/></body>
-  </worldbody>
-</mujoco>
-"""
 
 
 def _namespace(module, xml):
@@ -35,7 +28,7 @@ def _row(label, statement, ours, theirs, rounds, calls, official_statement=None)
 
 
 def run(rounds=21, calls=20000):
-    ours, theirs = _namespace(mjcffi, PENDULUM), _namespace(mujoco, PENDULUM)
+    ours, theirs = _namespace(mjcffi, scenes.PENDULUM), _namespace(mujoco, scenes.PENDULUM)
     lines = [
         "## `mj_step` per call",
         "",

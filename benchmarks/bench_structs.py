@@ -7,16 +7,10 @@ import pickle
 import mujoco
 
 import mjcffi
+from mjcffi import scenes
 
 from .common import interleaved, per_call
 
-PENDULUM = """
-<mujoco>
-  <worldbody>
-    <body><joint type="hinge" axis="0 1 0"/><geom type="capsule" fromto="0 0 0 0 0 -1" size=".05"/></body>
-  </worldbody>
-</mujoco>
-"""
 
 # (label, statement, calls per round, target ratio text)
 CASES = [
@@ -30,7 +24,7 @@ CASES = [
 
 
 def _namespace(module):
-    m = module.MjModel.from_xml_string(PENDULUM)
+    m = module.MjModel.from_xml_string(scenes.PENDULUM)
     d = module.MjData(m)
     return {"m": m, "d": d, "MjData": module.MjData, "copy": copy, "pickle": pickle}
 

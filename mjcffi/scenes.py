@@ -3,6 +3,22 @@
 DEFAULT is what `python -m mjcffi` simulates: free bodies of three geom types
 falling onto a plane (contacts, friction, a free joint each) beside a
 three-link arm driven by motors (hinges, actuators, sensors).
+
+PENDULUM is the smallest useful model, for measuring what a binding adds
+around MuJoCo: one hinge, one motor, one sensor.
+"""
+
+PENDULUM = """
+<mujoco model="pendulum">
+  <worldbody>
+    <body>
+      <joint name="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -1" size=".05"/>
+    </body>
+  </worldbody>
+  <actuator><motor joint="hinge"/></actuator>
+  <sensor><jointpos joint="hinge"/></sensor>
+</mujoco>
 """
 
 DEFAULT = """
