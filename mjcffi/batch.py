@@ -45,10 +45,9 @@ Every array here is a zero-copy view of storage the batch owns, and keeps the
 batch alive: a view stays valid after the Batch is dropped or closed.  The
 mjBatch is freed (mjb_deleteBatch) when its last view and the Batch are gone.
 
-`jac` and `ray` run their per-simulation work as a Python function under
-mjb_apply (this package compiles no batch-specific C), so they are slower
-than the official ones, and an error inside them raises SimulationError
-without showing in `status`.
+`jac` and `ray` run their per-simulation work as C functions under
+mjb_apply (mjcffi/_batchfuncs.c), on the batch's threads without the GIL;
+an error inside them shows in `status` and `error()` like any other call's.
 
 By default an mjData serves many simulations, so only the fields a call
 computes are meaningful; `persistent=True` keeps one mjData per simulation
@@ -523,8 +522,17 @@ class Batch:
         point = _broadcast(point, (n, 3), _NUM, "point")
         jacp, jacr = np.zeros((n, 3, nv), _NUM), np.zeros((n, 3, nv), _NUM)
         if count >= 0:
-            task = _Jac(self._rows(ids), bodies.tolist(), point, jacp, jacr, nv)
-            self._apply(ids, pointer, count, task)
+            rows = self._rows(ids)
+            arg = ffi.new("mjcffi_batch_jac_arg *")
+            # the cdata below keep their arrays alive until mjb_apply returns
+            body_ = ffi.from_buffer("int[]", bodies)
+            point_ = ffi.from_buffer("mjtNum[]", point)
+            jacp_ = ffi.from_buffer("mjtNum[]", jacp)
+            jacr_ = ffi.from_buffer("mjtNum[]", jacr)
+            rows_ = _NULL if rows is None else ffi.from_buffer("int[]", rows)
+            arg.rows, arg.nv, arg.body, arg.point = rows_, nv, body_, point_
+            arg.jacp, arg.jacr = jacp_, jacr_
+            self._apply_native(ids, pointer, count, _BATCH_JAC, arg)
         return jacp, jacr
 
     def ray(self, pnt, vec, geomgroup=None, flg_static=True, bodyexclude=-1, ids=None,
@@ -559,25 +567,46 @@ class Batch:
                 raise ValueError(f"geomgroup must have shape ({mjNGROUP},), "
                                  f"got {geomgroup.shape}")
             group = ffi.from_buffer("mjtByte[]", geomgroup)
-        dist, geomid = np.full((n, nray), -1.0, _NUM), np.full((n, nray), -1, _INT)
+        # mj_ray writes every entry, -1 for a miss
+        dist, geomid = np.zeros((n, nray), _NUM), np.zeros((n, nray), _INT)
         normals = np.zeros((n, nray, 3), _NUM) if normal else None
         if count >= 0 and nray:
-            task = _Ray(self._rows(ids), self.model.nflex, pnt, vec, group, bool(flg_static),
-                        exclude, dist, geomid, normals)
-            self._apply(ids, pointer, count, task)
+            rows = self._rows(ids)
+            arg = ffi.new("mjcffi_batch_ray_arg *")
+            # the cdata below keep their arrays alive until mjb_apply returns
+            pnt_ = ffi.from_buffer("mjtNum[]", pnt)
+            vec_ = ffi.from_buffer("mjtNum[]", vec)
+            exclude_ = ffi.from_buffer("int[]", exclude)
+            dist_ = ffi.from_buffer("mjtNum[]", dist)
+            geomid_ = ffi.from_buffer("int[]", geomid)
+            normals_ = _NULL if normals is None else ffi.from_buffer("mjtNum[]", normals)
+            rows_ = _NULL if rows is None else ffi.from_buffer("int[]", rows)
+            arg.rows, arg.nray, arg.pnt, arg.vec = rows_, nray, pnt_, vec_
+            arg.geomgroup, arg.flg_static, arg.bodyexclude = group, bool(flg_static), exclude_
+            arg.dist, arg.geomid, arg.normal = dist_, geomid_, normals_
+            self._apply_native(ids, pointer, count, _BATCH_RAY, arg)
         return (dist, geomid) if normals is None else (dist, geomid, normals)
 
     def _rows(self, ids):
-        """Simulation index -> its row in the call's arrays."""
+        """Simulation index -> its row in the call's arrays, (nsim,) int32; None for all."""
         if ids is None:
-            return range(self._nsim)
-        rows = [0] * self._nsim
-        for row, sim in enumerate(ids.tolist()):
-            rows[sim] = row
+            return None
+        rows = np.zeros(self._nsim, np.int32)
+        rows[ids] = np.arange(ids.size, dtype=np.int32)
         return rows
 
+    def _apply_native(self, ids, pointer, count, func, arg):
+        """Run the C mjfBatchFunc `func` with `arg` on the selected simulations.
+
+        mjb_apply runs it on the batch's threads, the GIL released, and saves
+        nothing.  An mju_error inside it fails that simulation only, in
+        `status` and `error()`, and raises SimulationError here.
+        """
+        _check_callbacks()
+        self._finish(ids, lib.mjcffi_guard_mjb_apply(self._ptr, pointer, count, func, arg, 0))
+
     def _apply(self, ids, pointer, count, task):
-        """Run `task` on the selected simulations with mjb_apply, saving nothing.
+        """Run a Python `task` on the selected simulations with mjb_apply, saving nothing.
 
         The task runs in Python, taking the GIL on the batch's threads; its
         MuJoCo calls are guarded, so an error ends the task of one simulation,
@@ -864,58 +893,14 @@ class _Named:
 
 # ------------------------------------------------------------ mjb_apply tasks
 
-class _Jac:
-    """mjb_apply task: mj_kinematics, mj_comPos and mj_jac per simulation."""
-
-    def __init__(self, rows, bodies, point, jacp, jacr, nv):
-        self.rows, self.bodies, self.nv, self.failed = rows, bodies, nv, {}
-        self.arrays = (point, jacp, jacr)       # alive while MuJoCo writes
-        self.point = ffi.from_buffer("mjtNum[]", point)
-        self.jacp = ffi.from_buffer("mjtNum[]", jacp)
-        self.jacr = ffi.from_buffer("mjtNum[]", jacr)
-
-    def run(self, m, d, sim):
-        row = self.rows[sim]
-        jac = 3 * self.nv * row
-        check(lib.mjcffi_guard_mj_kinematics(m, d))
-        check(lib.mjcffi_guard_mj_comPos(m, d))
-        check(lib.mjcffi_guard_mj_jac(m, d, self.jacp + jac, self.jacr + jac,
-                                      self.point + 3 * row, self.bodies[row]))
-
-
-class _Ray:
-    """mjb_apply task: mj_kinematics (and mj_flex), then mj_ray per ray."""
-
-    def __init__(self, rows, nflex, pnt, vec, group, flg_static, exclude, dist, geomid,
-                 normals):
-        self.rows, self.nflex, self.group, self.flg_static = rows, nflex, group, flg_static
-        self.nray = dist.shape[1]
-        self.exclude, self.failed = exclude.tolist(), {}
-        self.arrays = (pnt, vec, dist, geomid, normals)
-        self.pnt = ffi.from_buffer("mjtNum[]", pnt)
-        self.vec = ffi.from_buffer("mjtNum[]", vec)
-        self.dist = dist
-        self.geomid = ffi.from_buffer("int[]", geomid)
-        self.normals = None if normals is None else ffi.from_buffer("mjtNum[]", normals)
-
-    def run(self, m, d, sim):
-        row = self.rows[sim]
-        check(lib.mjcffi_guard_mj_kinematics(m, d))
-        if self.nflex:
-            check(lib.mjcffi_guard_mj_flex(m, d))
-        pnt, vec, geomid, normals = self.pnt, self.vec, self.geomid, self.normals
-        exclude, dist = self.exclude[row], self.dist[row]
-        for k in range(self.nray):
-            r = row * self.nray + k
-            normal = ffi.NULL if normals is None else normals + 3 * r
-            dist[k] = lib.mjcffi_guard_mj_ray(m, d, pnt + 3 * r, vec + 3 * r, self.group,
-                                              self.flg_static, exclude[k], geomid + r, normal)
-            raise_pending()
+# the native tasks of jac() and ray(), in mjcffi/_batchfuncs.c
+_BATCH_JAC = ffi.cast(_APPLY_SIGNATURE, ffi.addressof(lib, "mjcffi_batch_jac"))
+_BATCH_RAY = ffi.cast(_APPLY_SIGNATURE, ffi.addressof(lib, "mjcffi_batch_ray"))
 
 
 @ffi.callback(_APPLY_SIGNATURE)
 def _apply_trampoline(m, d, sim, arg):
-    """The mjfBatchFunc of every task: run it, keep what it raised by simulation."""
+    """The mjfBatchFunc of every Python task: run it, keep what it raised by simulation."""
     task = ffi.from_handle(arg)
     try:
         task.run(m, d, sim)

@@ -290,6 +290,115 @@ def test_jac_and_ray_bit_identical_to_official(mujoco, official, persistent):
     _same(ob.state, b.state, "state untouched")
 
 
+def _rays(rng, n, nray):
+    """Rays from above, pointing down and sideways, at random."""
+    pnt = rng.uniform(-1, 1, (n, nray, 3)) + [0, 0, 2]
+    vec = rng.uniform(-1, 1, (n, nray, 3)) + [0, 0, -1.5]
+    return pnt, vec
+
+
+@pytest.mark.parametrize("persistent", [False, True], ids=["shared", "persistent"])
+def test_jac_and_ray_on_two_threads_equal_one_thread_and_official(mujoco, official,
+                                                                  persistent):
+    nsim = 16
+    (om, ob), (m, two) = _pair(mujoco, official, GYM["humanoid"], nsim=nsim, nthread=2,
+                               persistent=persistent)
+    one = batch.Batch(m, nsim, 1, persistent)
+    assert two.nthread == 2 and one.nthread == 1
+    rng = np.random.default_rng(11)
+    for _ in range(3):
+        u = rng.uniform(-1, 1, (nsim, m.nu))
+        for bb in (ob, two, one):
+            bb.ctrl = u
+            bb.step(nstep=3)
+    ids = np.array([2, 5, 6, 11, 15])
+    mask = np.zeros(nsim, bool)
+    mask[[0, 7, 8, 9]] = True
+    for sel in (None, ids, mask):
+        n = nsim if sel is None else np.count_nonzero(mask) if sel is mask else len(sel)
+        bodies = rng.integers(0, m.nbody, n)
+        points = rng.uniform(-1, 1, (n, 3))
+        theirs = ob.jac(bodies, points, ids=sel)
+        for bb in (two, one):
+            for got, expected in zip(bb.jac(bodies, points, ids=sel), theirs):
+                _same(expected, got, f"jac {bb!r}")
+        pnt, vec = _rays(rng, n, 7)
+        exclude = rng.integers(-1, m.nbody, (n, 7))
+        theirs = ob.ray(pnt, vec, bodyexclude=exclude, ids=sel, normal=True)
+        assert (theirs[1] >= 0).any() and (theirs[1] == -1).any()    # hits and misses
+        for bb in (two, one):
+            ours = bb.ray(pnt, vec, bodyexclude=exclude, ids=sel, normal=True)
+            for got, expected in zip(ours, theirs):
+                _same(expected, got, f"ray {bb!r}")
+    for bb in (two, one):
+        _same(ob.state, bb.state, "state untouched")
+        assert not bb.status.any()
+
+
+@pytest.mark.parametrize("nthread", [1, 2])
+def test_an_error_in_jac_or_ray_fails_only_its_simulations(mujoco, official, nthread):
+    nsim = 6
+    (om, ob), (m, b) = _pair(mujoco, official, CARTPOLE, nsim=nsim, nthread=nthread,
+                             persistent=True)
+    rng = np.random.default_rng(12)
+    qpos = rng.uniform(-1, 1, (nsim, m.nq))
+    for bb in (ob, b):
+        bb.qpos = qpos
+    state = b.state.copy()
+    others = [0, 2, 3, 5]
+
+    def kinematics_ran(sims):
+        # a persistent batch keeps each simulation's kinematics of the call
+        for i in sims:
+            d = mjcffi.MjData(m)
+            d.qpos = qpos[i]
+            mjcffi.mj_kinematics(m, d)
+            _same(d.xpos, b.get_data(i).xpos, f"simulation {i} ran")
+
+    # ray: a zero direction is an mju_error in mj_ray, here in simulations 1 and 4
+    pnt, vec = _rays(rng, nsim, 3)
+    vec[[1, 4], 1] = 0
+    with pytest.raises(official.SimulationError):
+        ob.ray(pnt, vec)
+    with pytest.raises(batch.SimulationError, match=r"2 of 6 simulations \(1, 4\); "
+                       "simulation 1: mj_ray: vector length is too small") as caught:
+        b.ray(pnt, vec)
+    assert caught.value.ids.tolist() == [1, 4]
+    _same(ob.status, b.status, "status")
+    _same(np.flatnonzero(b.status), [1, 4], "status")
+    assert [b.error(i) for i in range(nsim)] == [ob.error(i) for i in range(nsim)]
+    assert all(b.error(i) == "" for i in others)
+    kinematics_ran(others)
+    _same(state, b.state, "state untouched")
+    # a selection reports simulations, not rows
+    with pytest.raises(batch.SimulationError) as caught:
+        b.ray(pnt[[0, 4]], vec[[0, 4]], ids=[3, 4])
+    assert caught.value.ids.tolist() == [4]
+    # the next call without the bad rays succeeds and clears the status
+    vec[[1, 4], 1] = [0, 0, -1]
+    for got, expected in zip(b.ray(pnt, vec), ob.ray(pnt, vec)):
+        _same(expected, got, "ray after the error")
+    assert not b.status.any() and b.error(1) == ""
+
+    # jac: an unknown joint type is an mju_error in mj_kinematics, here in 0 and 5
+    for bb in (ob, b):
+        bb.expand("jnt_type")[[0, 5], 1] = 99
+    with pytest.raises(official.SimulationError):
+        ob.jac(2, [0, 0, 1])
+    with pytest.raises(batch.SimulationError, match=r"2 of 6 simulations \(0, 5\); "
+                       "simulation 0: mj_kinematics1: unknown joint type 99") as caught:
+        b.jac(2, [0, 0, 1])
+    assert caught.value.ids.tolist() == [0, 5]
+    _same(ob.status, b.status, "status")
+    assert [b.error(i) for i in range(nsim)] == [ob.error(i) for i in range(nsim)]
+    kinematics_ran([1, 2, 3, 4])
+    _same(state, b.state, "state untouched")
+    ids = [1, 2, 3, 4]
+    for got, expected in zip(b.jac(2, [0, 0, 1], ids=ids), ob.jac(2, [0, 0, 1], ids=ids)):
+        _same(expected, got, "jac of the others")
+    assert not b.status[ids].any() and b.status[0] and b.status[5]
+
+
 # ------------------------------------------------------ per-simulation errors
 
 def test_an_error_in_some_simulations_leaves_the_others_running(mujoco, official):
