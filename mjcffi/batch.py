@@ -605,29 +605,6 @@ class Batch:
         _check_callbacks()
         self._finish(ids, lib.mjcffi_guard_mjb_apply(self._ptr, pointer, count, func, arg, 0))
 
-    def _apply(self, ids, pointer, count, task):
-        """Run a Python `task` on the selected simulations with mjb_apply, saving nothing.
-
-        The task runs in Python, taking the GIL on the batch's threads; its
-        MuJoCo calls are guarded, so an error ends the task of one simulation,
-        never unwinds through Python.  Those failures are the task's own: they
-        raise SimulationError here but do not show in `status` or `error()`.
-        """
-        _check_callbacks()
-        handle = ffi.new_handle(task)
-        failed = lib.mjcffi_guard_mjb_apply(self._ptr, pointer, count, _apply_trampoline,
-                                            handle, 0)
-        raise_pending()
-        if failed:
-            self._fail(ids)
-        if task.failed:
-            sims = sorted(task.failed)
-            first = task.failed[sims[0]]
-            if not isinstance(first, FatalError):
-                raise first
-            raise SimulationError(np.array(sims), str(first),
-                                  self._nsim if ids is None else len(ids))
-
     def _finish(self, ids, failed):
         """After a call: FatalError for rejected arguments, SimulationError for failures."""
         raise_pending()
@@ -896,16 +873,6 @@ class _Named:
 # the native tasks of jac() and ray(), in mjcffi/_batchfuncs.c
 _BATCH_JAC = ffi.cast(_APPLY_SIGNATURE, ffi.addressof(lib, "mjcffi_batch_jac"))
 _BATCH_RAY = ffi.cast(_APPLY_SIGNATURE, ffi.addressof(lib, "mjcffi_batch_ray"))
-
-
-@ffi.callback(_APPLY_SIGNATURE)
-def _apply_trampoline(m, d, sim, arg):
-    """The mjfBatchFunc of every Python task: run it, keep what it raised by simulation."""
-    task = ffi.from_handle(arg)
-    try:
-        task.run(m, d, sim)
-    except BaseException as exc:   # nothing may cross MuJoCo's C frames
-        task.failed[sim] = exc
 
 
 # -------------------------------------------------------------------- helpers

@@ -479,35 +479,6 @@ def test_rollout_stops_a_simulation_whose_warnings_rise(mujoco, official):
     _same(ours["qpos"][1, 3], ours["qpos"][1, 5], "repeated records")
 
 
-class _FailingTask:
-    """An mjb_apply task that fails in some simulations, as jac's and ray's could."""
-
-    def __init__(self, fatal, python):
-        self.fatal, self.python, self.ran, self.failed = fatal, python, [], {}
-
-    def run(self, m, d, sim):
-        self.ran.append(sim)
-        if sim in self.fatal:
-            raise mjcffi.FatalError(f"broke in {sim}")
-        if sim in self.python:
-            raise KeyError(sim)
-
-
-def test_failures_inside_apply_tasks_are_reported_after_the_call():
-    b = batch.Batch(mjcffi.MjModel.from_xml_string(CARTPOLE), 6, 2)
-    task = _FailingTask(fatal={1, 4}, python=())
-    with pytest.raises(batch.SimulationError, match=r"2 of 6 simulations \(1, 4\); "
-                       "simulation 1: broke in 1") as caught:
-        b._apply(None, mjcffi.ffi.NULL, 0, task)
-    assert caught.value.ids.tolist() == [1, 4]
-    assert sorted(task.ran) == list(range(6))           # the others ran
-    task = _FailingTask(fatal=(), python={3})
-    with pytest.raises(KeyError):
-        b._apply(None, mjcffi.ffi.NULL, 0, task)
-    b.step()
-    assert not b.status.any()
-
-
 def test_bad_stage_or_nstep_is_a_fatal_error_and_leaves_the_batch_usable():
     b = batch.Batch(mjcffi.MjModel.from_xml_string(CARTPOLE), 3)
     for call in (lambda: b.step(stage=7), lambda: b.step(nstep=0), lambda: b.forward(stage=-1),
