@@ -64,3 +64,96 @@ DEFAULT = """
   </sensor>
 </mujoco>
 """
+
+
+# ------------------------------------------------------------- hard cases
+#
+# Small scenes that each model only what their case needs, for the accuracy
+# report (python -m mjcffi.accuracy) and tests/test_hard_cases.py.
+
+# A chaotic double pendulum: two hinges, no contacts, no damping, so its
+# energy is conserved and its error grows quickly with the timestep.
+DOUBLE_PENDULUM = """
+<mujoco model="double pendulum">
+  <option timestep="0.001" integrator="RK4">
+    <flag contact="disable" constraint="disable"/>
+  </option>
+  <worldbody>
+    <body name="upper" pos="0 0 2">
+      <joint name="shoulder" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+      <body name="lower" pos="0 0 -0.5">
+        <joint name="elbow" type="hinge" axis="0 1 0"/>
+        <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.02" mass="1"/>
+      </body>
+    </body>
+  </worldbody>
+  <keyframe>
+    <key name="start" qpos="2.0 1.0"/>
+  </keyframe>
+</mujoco>
+"""
+
+# A free box spinning about its intermediate principal axis, without gravity:
+# the rotation is unstable and flips (the Dzhanibekov effect) while energy and
+# angular momentum are conserved.
+DZHANIBEKOV = """
+<mujoco model="dzhanibekov">
+  <option timestep="0.001" integrator="RK4" gravity="0 0 0">
+    <flag contact="disable" constraint="disable"/>
+  </option>
+  <worldbody>
+    <body name="tee">
+      <freejoint name="free"/>
+      <geom type="box" size="0.3 0.1 0.05" mass="1"/>
+      <geom type="box" size="0.02 0.4 0.02" pos="0.3 0 0" mass="0.5"/>
+    </body>
+  </worldbody>
+  <keyframe>
+    <key name="spin" qpos="0 0 0 1 0 0 0" qvel="0 0 0 0.01 10 0.01"/>
+  </keyframe>
+</mujoco>
+"""
+
+# A stack of four boxes resting on the floor: stiff, sustained contact.
+BOX_STACK = """
+<mujoco model="box stack">
+  <option timestep="0.002"/>
+  <worldbody>
+    <geom name="floor" type="plane" size="2 2 0.1"/>
+    <body name="box1" pos="0 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
+    <body name="box2" pos="0 0 0.3"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
+    <body name="box3" pos="0 0 0.5"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
+    <body name="box4" pos="0 0 0.7"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
+  </worldbody>
+</mujoco>
+"""
+
+# A hanging chain whose links alternate between 1 kg and 1 g (a 1000:1 mass
+# ratio), lightly damped: ill-conditioned dynamics that explicit integrators
+# find hard.
+MASS_RATIO_CHAIN = """
+<mujoco model="mass-ratio chain">
+  <option timestep="0.002" integrator="implicitfast">
+    <flag contact="disable"/>
+  </option>
+  <default><joint type="hinge" axis="0 1 0" damping="0.001"/></default>
+  <worldbody>
+    <body name="l1" pos="0 0 2"><joint/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="1"/>
+      <body name="l2" pos="0.2 0 0"><joint/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="0.001"/>
+        <body name="l3" pos="0.2 0 0"><joint/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="1"/>
+          <body name="l4" pos="0.2 0 0"><joint/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="0.001"/>
+            <body name="l5" pos="0.2 0 0"><joint/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="1"/>
+              <body name="l6" pos="0.2 0 0"><joint/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="0.001"/>
+              </body>
+            </body>
+          </body>
+        </body>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+HARD_CASES = {"double_pendulum": DOUBLE_PENDULUM, "dzhanibekov": DZHANIBEKOV,
+              "box_stack": BOX_STACK, "mass_ratio_chain": MASS_RATIO_CHAIN}
