@@ -1,0 +1,42 @@
+"""python -m benchmarks.compare [--write]: mjcffi against the official bindings.
+
+Runs every benchmark in one process (import times in fresh interpreters),
+interleaved, and prints RESULTS.md, or writes it with --write.  Models: a
+tiny pendulum and gymnasium's humanoid and ant.
+"""
+
+import argparse
+import pathlib
+
+from . import (bench_batch, bench_import, bench_named, bench_nstep, bench_rollout, bench_step,
+               bench_structs)
+from .common import environment
+
+RESULTS = pathlib.Path(__file__).resolve().parent / "RESULTS.md"
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python -m benchmarks.compare",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("--write", action="store_true", help=f"write {RESULTS.name}")
+    args = parser.parse_args(argv)
+    lines = ["# Benchmark results", "",
+             "Written by `python -m benchmarks.compare --write`; every figure is a measurement of "
+             "that run. Call benchmarks run both bindings in one process on the same libmujoco; "
+             "import times come from fresh interpreters. Candidates alternate within every "
+             "round, figures are medians, and ratios are mjcffi / official (below 1: mjcffi "
+             "is faster). The machine is "
+             "shared and noisy: read the ratios, not the absolute times.", ""]
+    lines += environment() + [""]
+    for bench in (bench_import, bench_step, bench_nstep, bench_structs, bench_named,
+                  bench_rollout, bench_batch):
+        lines += bench.run() + [""]
+    text = "\n".join(lines)
+    print(text)
+    if args.write:
+        RESULTS.write_text(text)
+        print(f"wrote {RESULTS}")
+
+
+if __name__ == "__main__":
+    main()
