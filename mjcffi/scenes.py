@@ -94,9 +94,12 @@ DOUBLE_PENDULUM = """
 </mujoco>
 """
 
-# A free box spinning about its intermediate principal axis, without gravity:
-# the rotation is unstable and flips (the Dzhanibekov effect) while energy and
-# angular momentum are conserved.
+# A free tee spinning about its intermediate principal axis (the body y axis:
+# principal inertias 0.090, 0.061, 0.031 about body z, y, x), without gravity:
+# the rotation is unstable, and the 0.1 % off-axis spin in the keyframe grows
+# until the tee flips (the Dzhanibekov effect, after about 1.5 s), while energy
+# and angular momentum are conserved.  The geoms put the centre of mass at the
+# body origin, so the spin is about the centre of mass and the tee stays put.
 DZHANIBEKOV = """
 <mujoco model="dzhanibekov">
   <option timestep="0.001" integrator="RK4" gravity="0 0 0">
@@ -105,8 +108,8 @@ DZHANIBEKOV = """
   <worldbody>
     <body name="tee">
       <freejoint name="free"/>
-      <geom type="box" size="0.3 0.1 0.05" mass="1"/>
-      <geom type="box" size="0.02 0.4 0.02" pos="0.3 0 0" mass="0.5"/>
+      <geom type="box" size="0.3 0.1 0.05" pos="-0.1 0 0" mass="1"/>
+      <geom type="box" size="0.02 0.4 0.02" pos="0.2 0 0" mass="0.5"/>
     </body>
   </worldbody>
   <keyframe>
@@ -115,29 +118,36 @@ DZHANIBEKOV = """
 </mujoco>
 """
 
-# A stack of four boxes resting on the floor: stiff, sustained contact.
+# A stack of four boxes resting on the floor: stiff, sustained contact.  The
+# upper boxes sit a few centimetres off centre and turned about z, so the
+# contacts carry off-centre loads (an exactly aligned stack is symmetric and
+# drifts by nothing but round-off); every centre of mass stays well inside
+# the top face of the box below.
 BOX_STACK = """
 <mujoco model="box stack">
   <option timestep="0.002"/>
   <worldbody>
     <geom name="floor" type="plane" size="2 2 0.1"/>
     <body name="box1" pos="0 0 0.1"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
-    <body name="box2" pos="0 0 0.3"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
-    <body name="box3" pos="0 0 0.5"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
-    <body name="box4" pos="0 0 0.7"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
+    <body name="box2" pos="0.03 0.01 0.3" euler="0 0 10"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
+    <body name="box3" pos="0 0.03 0.5" euler="0 0 -5"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
+    <body name="box4" pos="0.04 0.02 0.7" euler="0 0 20"><freejoint/><geom type="box" size="0.1 0.1 0.1" mass="1"/></body>
   </worldbody>
 </mujoco>
 """
 
-# A hanging chain whose links alternate between 1 kg and 1 g (a 1000:1 mass
-# ratio), lightly damped: ill-conditioned dynamics that explicit integrators
-# find hard.
+# A chain, released horizontal, whose links alternate between 1 kg and 1 g (a
+# 1000:1 mass ratio; the inertia matrix has a condition number of about 1e5),
+# with joint damping: the fastest damping mode, the largest eigenvalue of
+# M^-1 B times the timestep, is about 7, past the stability limit of explicit
+# integration (2 for Euler, 2.8 for RK4), which blows up within a few hundredths
+# of a second; implicitfast integrates the damping implicitly and stays stable.
 MASS_RATIO_CHAIN = """
 <mujoco model="mass-ratio chain">
   <option timestep="0.002" integrator="implicitfast">
     <flag contact="disable"/>
   </option>
-  <default><joint type="hinge" axis="0 1 0" damping="0.001"/></default>
+  <default><joint type="hinge" axis="0 1 0" damping="0.05"/></default>
   <worldbody>
     <body name="l1" pos="0 0 2"><joint/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="1"/>
       <body name="l2" pos="0.2 0 0"><joint/><geom type="capsule" fromto="0 0 0 0.2 0 0" size="0.01" mass="0.001"/>
