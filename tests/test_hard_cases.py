@@ -249,3 +249,184 @@ def test_mass_ratio_chain_blows_up_with_explicit_damping(integrator):
     d = start(m)
     mjcffi.mj_step(m, d, nstep=50)
     assert d.warning.number.any()
+
+
+# ----------------------------------------------------------------- divergence
+#
+# Three ways to drive a scene to blow up, and the warning MuJoCo 4.0 raises for
+# each (measured): a velocity past mjMAXVAL is caught at the start of the next
+# step (BADQVEL); a 10 s timestep throws the pendulum's angles past mjMAXVAL
+# in one step, caught at the start of the second (BADQPOS); and the chain under
+# RK4, unstable at its timestep, grows until its velocity is caught (BADQVEL,
+# at the 8th step).  On a warning mj_step resets the data (mj_resetData) and
+# carries on: the step ends one timestep after qpos0.
+
+def huge_velocity():
+    m = load(scenes.DOUBLE_PENDULUM)
+    d = start(m, "start")
+    d.qvel[0] = 10 * mjcffi.mjMAXVAL
+    d.time = 3.0
+    return m, d
+
+
+def absurd_timestep():
+    m = load(scenes.DOUBLE_PENDULUM, timestep=10.0)
+    return m, start(m, "start")
+
+
+def explicit_chain():
+    m = load(scenes.MASS_RATIO_CHAIN, INT.mjINT_RK4)
+    return m, start(m)
+
+
+DRIVES = {"huge_velocity": (huge_velocity, WARN.mjWARN_BADQVEL),
+          "absurd_timestep": (absurd_timestep, WARN.mjWARN_BADQPOS),
+          "explicit_chain": (explicit_chain, WARN.mjWARN_BADQVEL)}
+
+
+@pytest.fixture
+def warnings_restored():
+    yield
+    mjcffi.set_warnings_as_errors(False)
+
+
+@pytest.mark.parametrize("drive", DRIVES)
+def test_divergence_warns_and_resets(drive, warnings_restored):
+    make, warning = DRIVES[drive]
+    m, d = make()
+    for _ in range(100):
+        time_before = d.time
+        mjcffi.mj_step(m, d)
+        if d.warning.number.any():
+            break
+    # exactly the expected warning, once
+    expected = np.zeros(len(d.warning.number), dtype=d.warning.number.dtype)
+    expected[warning] = 1
+    np.testing.assert_array_equal(d.warning.number, expected)
+    # the auto-reset: time did not advance (it restarted from 0, so the step
+    # ends at one timestep), and the state is that of a fresh data stepped
+    # once from qpos0, bit for bit: the same step from the same state
+    assert d.time <= time_before and d.time == m.opt.timestep
+    fresh = mjcffi.MjData(m)
+    mjcffi.mj_step(m, fresh)
+    np.testing.assert_array_equal(state_of(m, d), state_of(m, fresh))
+
+    # mjcffi's warning mechanism: the same drive raises MjWarningError
+    m, d = make()
+    mjcffi.set_warnings_as_errors(True)
+    with pytest.raises(mjcffi.MjWarningError) as raised:
+        mjcffi.mj_step(m, d, nstep=100)
+    assert raised.value.warning == warning
+    mjcffi.set_warnings_as_errors(False)
+    # and with warnings as errors off again, the same drive only counts
+    m, d = make()
+    mjcffi.mj_step(m, d, nstep=100)
+    assert d.warning.number[warning] == 1
+
+
+@pytest.mark.xfail(strict=True, reason=(
+    "MuJoCo's auto-reset clears the warning counters and the warning then sets "
+    "its counter to 1 again, so a data that has diverged before keeps a count "
+    "of 1 through every later divergence; warning_errors.after_call compares "
+    "counts before and after the call and misses it (measured: the chain under "
+    "RK4 resets again in the second call, time 0.002 -> 0.004, no error)"))
+def test_a_second_divergence_of_the_same_data_raises_too(warnings_restored):
+    m, d = explicit_chain()
+    mjcffi.mj_step(m, d, nstep=8)              # the first divergence, counted
+    assert d.warning.number[WARN.mjWARN_BADQVEL] == 1
+    mjcffi.set_warnings_as_errors(True)
+    with pytest.raises(mjcffi.MjWarningError):
+        mjcffi.mj_step(m, d, nstep=8)          # diverges and resets again
+
+
+@pytest.mark.parametrize("nthread", [0, 2])
+def test_rollout_fills_a_diverged_trajectory_and_spares_the_other(nthread):
+    """A rollout of the chain under RK4 diverges at its 8th step; beside it in
+    the same call the chain under implicitfast does not.  As documented in
+    mjcffi/rollout.py, the diverged rollout's rows from the warning on repeat
+    its last state, and its time stops increasing there."""
+    from mjcffi import rollout
+    unstable = load(scenes.MASS_RATIO_CHAIN, INT.mjINT_RK4)
+    stable = load(scenes.MASS_RATIO_CHAIN)
+    d = mjcffi.MjData(stable)
+    initial = state_of(stable, d)[None, :]
+    nstep = 100
+    datas = [mjcffi.MjData(stable) for _ in range(max(nthread, 1))]
+    with rollout.Rollout(nthread=nthread) as pool:
+        states, _ = pool.rollout([unstable, stable], datas, initial, nstep=nstep, chunk_size=1)
+        alone, _ = pool.rollout([stable], datas, initial, nstep=nstep)
+
+    # each rollout against the same steps taken one at a time
+    for r, m in enumerate([unstable, stable]):
+        d = mjcffi.MjData(m)
+        warned_at = None
+        for t in range(nstep):
+            mjcffi.mj_step(m, d)
+            if warned_at is None:
+                np.testing.assert_array_equal(states[r, t], state_of(m, d))
+                if d.warning.number.any():
+                    warned_at = t
+        if r == 0:
+            assert warned_at == 7
+            # the rest repeat the last state: the reset one
+            assert (states[0, warned_at:] == states[0, warned_at]).all()
+            time = states[0, :, 0]
+            assert (np.diff(time[:warned_at]) > 0).all()
+            assert time[warned_at] < time[warned_at - 1]
+        else:
+            assert warned_at is None
+    # the diverged rollout does not touch the other: bit-equal to rolling it alone
+    np.testing.assert_array_equal(states[1], alone[0])
+    assert np.isfinite(states).all()
+
+
+# -------------------------------------------------- bit-identity with mujoco
+#
+# Every case above, stepped through the official binding and through mjcffi
+# in the same process on the same libmujoco: the full physics state and the
+# warning counters agree to the last bit at every chunk.  (Tolerance zero: both
+# make the same C calls on the same inputs.)
+
+IDENTITY_CASES = {
+    # name: (scene, keyframe, options, steps per chunk, chunks)
+    "double_pendulum_rk4": (scenes.DOUBLE_PENDULUM, "start", {}, 100, 50),
+    "double_pendulum_euler": (scenes.DOUBLE_PENDULUM, "start",
+                              {"integrator": "mjINT_EULER"}, 100, 50),
+    "double_pendulum_absurd_timestep": (scenes.DOUBLE_PENDULUM, "start",
+                                        {"timestep": 10.0}, 1, 5),
+    "dzhanibekov": (scenes.DZHANIBEKOV, "spin", {}, 100, 40),
+    "box_stack": (scenes.BOX_STACK, None, {}, 100, 50),
+    "mass_ratio_chain": (scenes.MASS_RATIO_CHAIN, None, {}, 100, 25),
+    "mass_ratio_chain_rk4_diverging": (scenes.MASS_RATIO_CHAIN, None,
+                                       {"integrator": "mjINT_RK4"}, 5, 20),
+}
+
+
+def trajectory(binding, scene, key, options, chunk, nchunk):
+    m = binding.MjModel.from_xml_string(scene)
+    if "integrator" in options:
+        m.opt.integrator = getattr(binding.mjtIntegrator, options["integrator"])
+    if "timestep" in options:
+        m.opt.timestep = options["timestep"]
+    m.opt.enableflags |= int(binding.mjtEnableBit.mjENBL_ENERGY)
+    d = binding.MjData(m)
+    if key is not None:
+        binding.mj_resetDataKeyframe(m, d, m.key(key).id)
+    spec = int(binding.mjtState.mjSTATE_FULLPHYSICS)
+    rows = []
+    for _ in range(nchunk):
+        binding.mj_step(m, d, nstep=chunk)
+        state = np.empty(binding.mj_stateSize(m, spec))
+        binding.mj_getState(m, d, state, spec)
+        rows.append(np.concatenate([state, d.energy, d.warning.number]))
+    return np.array(rows)
+
+
+@pytest.mark.parametrize("case", IDENTITY_CASES)
+def test_bit_identical_to_the_official_binding(case, mujoco):
+    ours = trajectory(mjcffi, *IDENTITY_CASES[case])
+    theirs = trajectory(mujoco, *IDENTITY_CASES[case])
+    assert ours.tobytes() == theirs.tobytes()
+    warnings = ours[-1, -int(mjcffi.mjtWarning.mjNWARNING):]
+    diverges = case.endswith(("diverging", "absurd_timestep"))
+    assert warnings.any() == diverges              # the resets were compared too
