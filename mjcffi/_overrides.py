@@ -50,12 +50,16 @@ def _step_checked(m, d, nstep):
     c_m, c_d = _m.model_data(m, d)
     before = _warnings.before_call(d) if _warnings._enabled else None
     try:
-        status = _step(c_m, c_d, nstep)
-    except (TypeError, OverflowError) as exc:
-        raise _m.scalar_error(exc, "mj_step", {"nstep": ("int", nstep)}) from None
-    _m.check(status)
-    if before is not None:
-        _warnings.after_call(d, before)
+        try:
+            status = _step(c_m, c_d, nstep)
+        except (TypeError, OverflowError) as exc:
+            raise _m.scalar_error(exc, "mj_step", {"nstep": ("int", nstep)}) from None
+        _m.check(status)
+    except BaseException:
+        if before is not None:
+            _warnings.restore(d, before)      # keep the counts under the exception
+        raise
+    _warnings.after_call(d, before)
 
 
 def mj_forward(m, d):
@@ -64,9 +68,13 @@ def mj_forward(m, d):
     MjWarningError."""
     c_m, c_d = _m.model_data(m, d)
     before = _warnings.before_call(d) if _warnings._enabled else None
-    _m.check(lib.mjcffi_guard_mj_forward(c_m, c_d))
-    if before is not None:
-        _warnings.after_call(d, before)
+    try:
+        _m.check(lib.mjcffi_guard_mj_forward(c_m, c_d))
+    except BaseException:
+        if before is not None:
+            _warnings.restore(d, before)      # keep the counts under the exception
+        raise
+    _warnings.after_call(d, before)
 
 
 # ------------------------------------------------------------ new models

@@ -14,10 +14,9 @@ The switch is process-wide and off by default; `ignore_warnings` acts on the
 calling thread only.  The check compares the counters before and after the
 call (mj_step, including all of its `nstep` steps, and mj_forward), so the
 data has already been stepped when the error is raised.  A bad qpos, qvel or
-qacc makes MuJoCo reset the data, which zeroes the counters before counting
-the new warning: a counter that was already 1 then still reads 1, and that
-repeat goes unseen.  Reset the data after handling a warning (as after any
-instability) and the next one is seen.
+qacc makes MuJoCo reset the data, which zeroes the counters; while warnings
+are errors, the counts of the checked calls are added up instead, so every
+warning of a call is seen, the repeat of an earlier one included.
 """
 
 import contextlib
@@ -69,18 +68,38 @@ def ignore_warnings():
 
 
 def before_call(d):
-    """The warning counts to compare after a call, or None when no check is due."""
+    """Start watching a call: take the counts out of `d`, or return None if no check is due.
+
+    The counters are zeroed for the call and the old counts added back after,
+    so a warning raised in the call shows as a non-zero count even when
+    MuJoCo's auto-reset clears the counters and counts it again from zero.
+    """
     if not _enabled or getattr(_local, "ignoring", 0):
         return None
-    return [d._ptr.warning[i].number for i in range(_NWARNING)]
+    warnings = d._ptr.warning
+    before = [warnings[i].number for i in range(_NWARNING)]
+    for i in range(_NWARNING):
+        warnings[i].number = 0
+    return before
+
+
+def restore(d, before):
+    """Add the counts taken by before_call back into `d`; return the call's own counts."""
+    warnings = d._ptr.warning
+    new = [warnings[i].number for i in range(_NWARNING)]
+    for i in range(_NWARNING):
+        warnings[i].number = before[i] + new[i]
+    return new
 
 
 def after_call(d, before):
-    """Raise MjWarningError for the first warning whose count changed since `before`."""
+    """Put the earlier counts back, then raise MjWarningError for a warning of the call.
+
+    If the call itself raised, call `restore` instead, so the counts are kept.
+    """
     if before is None:
         return
+    new = restore(d, before)
     for i in range(_NWARNING):
-        stat = d._ptr.warning[i]
-        if stat.number != before[i]:
-            new = stat.number - before[i] if stat.number > before[i] else stat.number
-            raise MjWarningError(mjtWarning(i), stat.lastinfo, new)
+        if new[i]:
+            raise MjWarningError(mjtWarning(i), d._ptr.warning[i].lastinfo, new[i])

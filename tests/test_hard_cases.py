@@ -324,12 +324,6 @@ def test_divergence_warns_and_resets(drive, warnings_restored):
     assert d.warning.number[warning] == 1
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "MuJoCo's auto-reset clears the warning counters and the warning then sets "
-    "its counter to 1 again, so a data that has diverged before keeps a count "
-    "of 1 through every later divergence; warning_errors.after_call compares "
-    "counts before and after the call and misses it (measured: the chain under "
-    "RK4 resets again in the second call, time 0.002 -> 0.004, no error)"))
 def test_a_second_divergence_of_the_same_data_raises_too(warnings_restored):
     m, d = explicit_chain()
     mjcffi.mj_step(m, d, nstep=8)              # the first divergence, counted

@@ -86,3 +86,17 @@ def test_ignore_warnings_suspends_raising_on_this_thread_only(pendulum):
 def test_the_switch_takes_only_bools():
     with pytest.raises(TypeError, match="bool"):
         mjcffi.set_warnings_as_errors(1)
+
+
+def test_counts_survive_a_fatal_error_in_a_checked_call():
+    # five boxes piled up overflow a 6K stack in mj_step: a real mju_error
+    bodies = "".join('<body pos="0 0 1"><freejoint/><geom type="box" size=".1 .1 .1"/></body>'
+                     for _ in range(5))
+    m = mjcffi.MjModel.from_xml_string(
+        f'<mujoco><size memory="6K"/><worldbody>{bodies}</worldbody></mujoco>')
+    d = mjcffi.MjData(m)
+    d.warning[mjcffi.mjtWarning.mjWARN_INERTIA].number = 2     # counts the user holds
+    mjcffi.set_warnings_as_errors(True)
+    with pytest.raises(mjcffi.FatalError):
+        mjcffi.mj_step(m, d)
+    assert d.warning[mjcffi.mjtWarning.mjWARN_INERTIA].number == 2
