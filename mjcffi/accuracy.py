@@ -190,6 +190,11 @@ class Trajectory:
     unstable: bool = False
 
 
+# MuJoCo's divergence warnings; after one it resets the data (unless mjDSBL_AUTORESET) and goes on
+BAD = [int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQVEL),
+       int(mujoco.mjtWarning.mjWARN_BADQACC)]
+
+
 def reset(m, d):
     if m.nkey:
         mujoco.mj_resetDataKeyframe(m, d, 0)
@@ -238,7 +243,7 @@ def simulate(scene, base_model, setting, samples=200):
         k = min(chunk, n - done)
         mujoco.mj_step(m, d, nstep=k)
         done += k
-        if d.warning.number[mujoco.mjtWarning.mjWARN_BADQACC] or not np.all(np.isfinite(d.qpos)):
+        if d.warning.number[BAD].any() or not np.all(np.isfinite(d.qpos)):
             traj.unstable = True
             break
         if scene.conservative:
@@ -394,7 +399,8 @@ def stage_lines(scene, rows, dt0):
         same = ("yes, bit for bit" if np.array_equal(off.qpos, r.qpos)
                 else f"no (differs by {fmt(float(np.abs(off.qpos - r.qpos).max()))})")
         lines.append(f"| {INTEGRATOR_NAMES[int(r.setting.integrator)]} | {off.steps_per_s:,.0f} "
-                     f"| {r.steps_per_s:,.0f} | {off.steps_per_s / r.steps_per_s:.2f}× | {same} |")
+                     f"| {r.steps_per_s:,.0f} | {off.steps_per_s / r.steps_per_s:.2f}× "
+                     f"| {same} |")
     return lines + [""]
 
 
@@ -465,9 +471,11 @@ def environment():
                     break
     except OSError:
         pass
-    versions = ", ".join(f"{n} {version(n)}" for n in ("mjcffi", "mujoco-core", "numpy", "gymnasium"))
+    versions = ", ".join(f"{n} {version(n)}"
+                         for n in ("mjcffi", "mujoco-core", "numpy", "gymnasium"))
     return [f"- date: {datetime.date.today().isoformat()}",
-            f"- Python {platform.python_version()} ({platform.python_implementation()}), {versions}",
+            f"- Python {platform.python_version()} ({platform.python_implementation()}), "
+            f"{versions}",
             f"- CPU: {cpu} ({os.cpu_count()} cores); {platform.system()} {platform.machine()}"]
 
 
@@ -514,7 +522,8 @@ def plot(results, path):
         ax.axis("off")
     handles, labels = axes.flat[0].get_legend_handles_labels()
     from matplotlib.lines import Line2D
-    handles += [Line2D([], [], ls="", marker="s", c="gray"), Line2D([], [], ls="", marker="^", c="gray")]
+    handles += [Line2D([], [], ls="", marker="s", c="gray"),
+                Line2D([], [], ls="", marker="^", c="gray")]
     labels += ["solver iterations/tolerance", "unneeded stages on"]
     fig.legend(handles, labels, loc="lower center", ncol=4, fontsize=8, frameon=False)
     fig.tight_layout(rect=(0, 0.07 if nrows > 1 else 0.12, 1, 1))
@@ -530,11 +539,13 @@ def default_out():
 
 def main(argv=None):
     names = list(all_scenes())
-    p = argparse.ArgumentParser(prog="python -m mjcffi.accuracy", description=__doc__.split("\n")[0])
+    p = argparse.ArgumentParser(prog="python -m mjcffi.accuracy",
+                                description=__doc__.split("\n")[0])
     p.add_argument("scenes", nargs="*", metavar="SCENE",
                    help=f"scenes to run (default: all): {', '.join(names)}")
     p.add_argument("--budget", type=float, default=DEFAULT_BUDGET,
-                   help="position error budget in the scene's units (m and rad; default %(default)g)")
+                   help="position error budget in the scene's units "
+                        "(m and rad; default %(default)g)")
     p.add_argument("--out", default=None, help="folder for ACCURACY.md and accuracy.png")
     p.add_argument("--quick", action="store_true",
                    help="a small sweep (Euler and RK4, three timesteps, no solver sweep)")
@@ -593,7 +604,8 @@ def write_report(results, budget, out, elapsed, quick=False):
               "rank timesteps: the Pareto front, the plot and the budget pick all use this "
               "(for a fixed horizon, the highest × real time is the cheapest setting).",
               "- **Pareto** ★: no other setting is both faster and more accurate. "
-              "`unstable`: the run diverged (MuJoCo's bad-qacc warning or non-finite state); "
+              "`unstable`: the run diverged (MuJoCo's bad qpos/qvel/qacc warning, after "
+              "which it resets the state, or a non-finite state); "
               "it is not timed.",
               "- Stages a scene does not need (contact, constraint) are off in its sweep; rows "
               "marked `+contact+constraint` switch them back on to show what they cost.",

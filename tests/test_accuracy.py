@@ -31,8 +31,8 @@ def test_report_on_one_scene(tmp_path, capsys):
     assert len(rows) >= 6
     for line in rows:
         assert float(line.split("|")[2].replace(",", "")) > 0
-    pick = re.search(r"Cheapest within the budget 0\.001: (.+?)\*\*.*position error ([0-9.]+e[+-][0-9]+)",
-                     text)
+    pick = re.search(r"Cheapest within the budget 0\.001: (.+?)\*\*"
+                     r".*position error ([0-9.]+e[+-][0-9]+)", text)
     assert pick, text
     assert float(pick.group(2)) <= 1e-3
     # Euler is far off on a chaotic pendulum; only RK4 fits 1e-3
