@@ -1,10 +1,7 @@
-"""Shared pieces of the benchmarks: interleaved timing and the machine's description."""
+"""Shared pieces of the benchmarks: interleaved timing of statements."""
 
-import datetime
-import platform
 import statistics
 import timeit
-from importlib import metadata
 
 
 def interleaved(candidates, rounds):
@@ -31,23 +28,3 @@ def per_call(statement, namespace, calls):
     def run():
         return timer.timeit(calls) / calls
     return run
-
-
-def cpu_name():
-    try:
-        with open("/proc/cpuinfo") as info:
-            for line in info:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
-
-
-def environment():
-    """Lines naming date, versions and CPU, for RESULTS.md."""
-    versions = ", ".join(f"{name} {metadata.version(name)}"
-                         for name in ("mjcffi", "mujoco-core", "cffi", "numpy"))
-    return [f"- date: {datetime.date.today().isoformat()}",
-            f"- Python {platform.python_version()} ({platform.python_implementation()}), {versions}",
-            f"- CPU: {cpu_name()}; {platform.system()} {platform.machine()}"]

@@ -10,7 +10,7 @@ import pathlib
 
 from . import (bench_batch, bench_import, bench_named, bench_nstep, bench_rollout, bench_step,
                bench_structs)
-from .common import environment
+from mjcffi._machine import environment
 
 RESULTS = pathlib.Path(__file__).resolve().parent / "RESULTS.md"
 

@@ -20,19 +20,17 @@ into --out (default: benchmarks/ beside this package, else the current directory
 import argparse
 import copy
 import dataclasses
-import datetime
 import math
 import os
-import platform
 import statistics
 import sys
 import time
-from importlib import metadata
 
 import numpy as np
 
 import mjcffi as mujoco
 from mjcffi import scenes
+from mjcffi._machine import environment
 
 INT = mujoco.mjtIntegrator
 DSBL = mujoco.mjtDisableBit
@@ -455,30 +453,6 @@ def scene_section(scene, m, ref_setting, rows, budget):
     return lines
 
 
-def environment():
-    """Date, versions and CPU (the style of benchmarks/common.py)."""
-    def version(name):
-        try:
-            return metadata.version(name)
-        except metadata.PackageNotFoundError:
-            return "not installed"
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as info:
-            for line in info:
-                if line.startswith("model name"):
-                    cpu = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    versions = ", ".join(f"{n} {version(n)}"
-                         for n in ("mjcffi", "mujoco-core", "numpy", "gymnasium"))
-    return [f"- date: {datetime.date.today().isoformat()}",
-            f"- Python {platform.python_version()} ({platform.python_implementation()}), "
-            f"{versions}",
-            f"- CPU: {cpu} ({os.cpu_count()} cores); {platform.system()} {platform.machine()}"]
-
-
 def plot(results, path):
     """One panel per scene: error against steps/s, Pareto front joined. Returns a message."""
     try:
@@ -582,7 +556,7 @@ def write_report(results, budget, out, elapsed, quick=False):
              "Written by `python -m mjcffi.accuracy" + (" --quick" if quick else "")
              + f" --budget {budget:g}`"
              + f" in {elapsed:.0f} s.", ""]
-    lines += environment()
+    lines += environment(("mjcffi", "mujoco-core", "numpy", "gymnasium"))
     lines += ["",
               "How to read it:", "",
               f"- **Reference**: each scene is run with RK4 at its own timestep / {REF_FACTOR} "
