@@ -19,7 +19,8 @@ a short list of calls into this module, then the guarded C call.  The rules:
   for a wrong value, shape, layout or size.  A mju_error inside MuJoCo
   becomes FatalError.
 
-Support module: imports only the compiled module, _views, _errors and NumPy.
+Support module: imports only the compiled module, _views, _errors, callbacks (for
+the flag of a stashed callback error) and NumPy.
 """
 
 import operator
