@@ -1,0 +1,265 @@
+"""mjcffi.sim, the mujoco-py interface: MjSim, MjSimState, MjSimPool, save, warnings."""
+
+import io
+
+import numpy as np
+import pytest
+
+import mjcffi
+from mjcffi import scenes
+from mjcffi.sim import (MjSim, MjSimPool, MjSimState, MujocoException, SimData, SimModel,
+                        ignore_mujoco_warnings, load_model_from_mjb, load_model_from_path,
+                        load_model_from_xml)
+
+from .conftest import gymnasium_assets
+
+
+def _humanoid_path():
+    return next(p for p in gymnasium_assets() if p.name == "humanoid.xml")
+
+
+def _humanoid_sim(seed, nsubsteps=1):
+    sim = MjSim(load_model_from_path(_humanoid_path()), nsubsteps=nsubsteps)
+    rng = np.random.default_rng(seed)
+    sim.data.qpos[:] += rng.uniform(-0.05, 0.05, sim.model.nq)
+    sim.data.ctrl[:] = rng.uniform(-0.4, 0.4, sim.model.nu)
+    return sim
+
+
+def test_mujoco_py_script():
+    # a mujoco-py example, unchanged but for its import
+    MODEL_XML = """
+    <?xml version="1.0" ?>
+    <mujoco>
+        <worldbody>
+            <body name="box" pos="0 0 0.2">
+                <geom size="0.15 0.15 0.15" type="box"/>
+                <joint axis="1 0 0" name="box:x" type="slide"/>
+                <joint axis="0 1 0" name="box:y" type="slide"/>
+            </body>
+            <body name="floor" pos="0 0 0.025">
+                <geom size="1.0 1.0 0.02" rgba="0 1 0 1" type="box"/>
+            </body>
+        </worldbody>
+        <actuator>
+            <motor gear="2000.0" joint="box:x"/>
+            <motor gear="2000.0" joint="box:y"/>
+        </actuator>
+    </mujoco>
+    """.strip()
+    model = load_model_from_xml(MODEL_XML)
+    sim = MjSim(model)
+    t = 0
+    start = sim.get_state()
+    for _ in range(200):
+        sim.data.ctrl[0] = np.cos(t / 10.) * 0.01
+        sim.data.ctrl[1] = np.sin(t / 10.) * 0.01
+        t += 1
+        sim.step()
+    assert sim.data.time == pytest.approx(200 * model.opt.timestep)
+    assert np.abs(sim.data.qpos).max() > 1e-3
+    flat = sim.get_state().flatten()
+    sim.set_state(start)
+    assert sim.data.time == 0 and not sim.data.qpos.any()
+    sim.set_state_from_flattened(flat)
+    np.testing.assert_array_equal(sim.get_state().flatten(), flat)
+    assert model._xml == MODEL_XML
+    assert isinstance(model, SimModel) and isinstance(sim.data, SimData)
+
+
+def test_loaders(tmp_path):
+    model = load_model_from_path(_humanoid_path())
+    mjb = model.to_bytes()
+    (tmp_path / "h.mjb").write_bytes(mjb)
+    for other in (load_model_from_mjb(mjb), load_model_from_mjb(tmp_path / "h.mjb"),
+                  load_model_from_path(tmp_path / "h.mjb")):
+        assert isinstance(other, SimModel) and other.to_bytes() == mjb
+
+
+def test_state_round_trip_and_trajectory():
+    sim = MjSim(load_model_from_xml(scenes.PENDULUM), nsubsteps=3)
+    sim.data.qpos[0] = 1.0
+    for _ in range(5):
+        sim.step()
+    state = sim.get_state()
+    flat = state.flatten()
+    again = MjSimState.from_flattened(flat, sim)
+    assert again.time == state.time and again.act is None
+    np.testing.assert_array_equal(again.qpos, state.qpos)
+    np.testing.assert_array_equal(again.qvel, state.qvel)
+    assert again.flatten().tobytes() == flat.tobytes()
+    # the state is a copy
+    sim.data.qpos[0] = 7.0
+    assert state.qpos[0] != 7.0
+    sim.set_state(state)
+    uninterrupted = []
+    for _ in range(20):
+        sim.step()
+        uninterrupted.append(sim.get_state().flatten())
+    for restore in (lambda: sim.set_state(state), lambda: sim.set_state_from_flattened(flat)):
+        restore()
+        for expected in uninterrupted:
+            sim.step()
+            assert sim.get_state().flatten().tobytes() == expected.tobytes()
+
+
+def test_nsubsteps_and_given_data():
+    model = load_model_from_xml(scenes.DEFAULT)
+    data = mjcffi.MjData(model)
+    sim = MjSim(model, data=data, nsubsteps=4)
+    assert sim.data is data
+    reference = mjcffi.MjData(model)
+    sim.step()
+    mjcffi.mj_step(model, reference, 4)
+    np.testing.assert_array_equal(sim.data.qpos, reference.qpos)
+    sim.forward()
+    sim.reset()
+    assert sim.data.time == 0
+    with pytest.raises(NotImplementedError, match="rendering is not available"):
+        sim.render(64, 64)
+
+
+def test_pool_matches_single_sims():
+    nsims, nsubsteps, calls = 5, 3, 4
+    pool = MjSimPool([_humanoid_sim(i) for i in range(nsims)], nsubsteps=nsubsteps)
+    alone = [_humanoid_sim(i) for i in range(nsims)]
+    for _ in range(calls):
+        pool.step()
+    for sim in alone:
+        for _ in range(calls):
+            mjcffi.mj_step(sim.model, sim.data, nsubsteps)
+    for ours, ref in zip(pool.sims, alone):
+        assert ours.data.time == ref.data.time
+        for field in ("qpos", "qvel", "qacc", "sensordata", "qacc_warmstart"):
+            assert getattr(ours.data, field).tobytes() == getattr(ref.data, field).tobytes()
+    # only the first nsims step
+    before = [s.data.time for s in pool.sims]
+    pool.step(nsims=2)
+    assert [s.data.time > b for s, b in zip(pool.sims, before)] == [True, True, False, False,
+                                                                      False]
+    pool.forward()
+    pool.reset(nsims=3)
+    assert [s.data.time for s in pool.sims[:3]] == [0, 0, 0]
+    pool.close()
+
+
+def test_pool_create_from_sim():
+    sim = MjSim(load_model_from_xml(scenes.DEFAULT), nsubsteps=2)
+    pool = MjSimPool.create_from_sim(sim, 3)
+    assert pool.nsims == 3 and pool.nsubsteps == 2
+    assert all(s.model is not sim.model and s.model.nq == sim.model.nq for s in pool.sims)
+    pool.step()
+    times = {s.data.time for s in pool.sims}
+    assert times == {2 * sim.model.opt.timestep}
+    pool.close()
+
+
+@pytest.mark.parametrize("source", ["string", "path"])
+@pytest.mark.parametrize("fmt", ["xml", "mjb"])
+def test_save_and_reload_keyframe(tmp_path, source, fmt):
+    if source == "string":
+        sim = MjSim(load_model_from_xml(scenes.DEFAULT))
+    else:
+        sim = _humanoid_sim(3)
+    for _ in range(30):
+        sim.step()
+    assert sim.data.qvel.any()
+    target = tmp_path / f"saved.{fmt}"
+    with open(target, "w" if fmt == "xml" else "wb") as f:
+        sim.save(f, format=fmt)
+    model = load_model_from_path(target)
+    data = mjcffi.MjData(model)
+    mjcffi.mj_resetDataKeyframe(model, data, model.key("saved_state").id)
+    assert data.time == sim.data.time
+    assert data.qpos.tobytes() == sim.data.qpos.tobytes()
+    assert data.qvel.tobytes() == sim.data.qvel.tobytes()
+    assert model.nq == sim.model.nq and model.nbody == sim.model.nbody
+    np.testing.assert_array_equal(model.body_mass, sim.model.body_mass)
+
+
+def test_save_binary_buffer():
+    sim = MjSim(load_model_from_xml(scenes.DEFAULT))
+    sim.step()
+    buffer = io.BytesIO()
+    sim.save(buffer, format="mjb")
+    model = load_model_from_mjb(buffer.getvalue())
+    assert model.nkey == sim.model.nkey + 1
+    with pytest.raises(ValueError, match="format"):
+        sim.save(buffer, format="json")
+
+
+def _bad_sim():
+    sim = MjSim(load_model_from_xml(scenes.PENDULUM))
+    sim.data.qvel[0] = np.nan
+    return sim
+
+
+def test_warning_raises_mujoco_exception():
+    sim = _bad_sim()
+    with pytest.raises(MujocoException, match="unstable") as info:
+        sim.step()
+    assert isinstance(info.value, mjcffi.MjWarningError)
+    assert info.value.warning == mjcffi.mjtWarning.mjWARN_BADQVEL
+    # counted once, as MuJoCo counts it
+    assert sim.data.warning[int(mjcffi.mjtWarning.mjWARN_BADQVEL)].number == 1
+    sim = _bad_sim()
+    sim.data.ctrl[0] = np.nan
+    with pytest.raises(MujocoException, match="ctrl"):
+        sim.forward()
+
+
+def test_ignore_mujoco_warnings():
+    sim = _bad_sim()
+    with ignore_mujoco_warnings():
+        sim.step()
+        sim.step()
+    assert sim.data.warning[int(mjcffi.mjtWarning.mjWARN_BADQVEL)].number == 1
+    assert np.isfinite(sim.data.qvel).all()      # MuJoCo reset it
+    sim.step()                                    # no new warning: no error
+
+
+def test_plain_mj_step_does_not_raise():
+    sim = _bad_sim()
+    mjcffi.mj_step(sim.model, sim.data)          # the switch is per MjSim, not global
+
+
+def test_udd_callback_and_state():
+    calls = []
+
+    def udd(sim):
+        calls.append(sim.data.time)
+        return {"energy": float(sim.data.qvel @ sim.data.qvel), "hist": sim.data.qpos.copy()}
+
+    sim = MjSim(load_model_from_xml(scenes.PENDULUM), udd_callback=udd)
+    assert len(calls) == 1 and set(sim.udd_state) == {"energy", "hist"}
+    sim.data.qpos[0] = 0.5
+    for _ in range(3):
+        sim.step()
+    assert len(calls) == 4
+    state = sim.get_state()
+    flat = state.flatten()
+    assert flat.size == 1 + sim.model.nq + sim.model.nv + 1 + sim.model.nq
+    again = MjSimState.from_flattened(flat, sim)
+    assert again.udd_state["energy"] == state.udd_state["energy"]
+    np.testing.assert_array_equal(again.udd_state["hist"], state.udd_state["hist"])
+    sim.step()
+    sim.set_state(state)
+    assert sim.udd_state["energy"] == state.udd_state["energy"]
+    assert sim.udd_state is not state.udd_state
+    sim.step(with_udd=False)
+    assert len(calls) == 5
+    sim.reset()
+    assert len(calls) == 6 and sim.udd_state["hist"][0] == 0
+
+    def unstable(sim):
+        return {"a": 1.0} if sim.data.time == 0 else {"b": 1.0}
+
+    sim = MjSim(load_model_from_xml(scenes.PENDULUM), udd_callback=unstable)
+    sim.step()
+    with pytest.raises(ValueError, match="keys"):
+        sim.step()
+    sim = MjSim(load_model_from_xml(scenes.PENDULUM),
+                udd_callback=lambda s: {"x": np.zeros(1 + int(s.data.time > 0))})
+    sim.step()
+    with pytest.raises(ValueError, match="shape"):
+        sim.step()
