@@ -8,7 +8,7 @@ import argparse
 import pathlib
 
 from . import (comments, extents, fields, functions, guards, headers, named, outputs, parse,
-               structs)
+               simgetters, structs)
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -31,6 +31,7 @@ def generate():
         **structs.generate(described, decls, header_texts, notes),
         **functions.generate(decls, notes, described, header_texts),
         **named.generate(described),
+        **simgetters.generate(described, decls),
     }
 
 
