@@ -8,8 +8,8 @@ tiny pendulum and gymnasium's humanoid and ant.
 import argparse
 import pathlib
 
-from . import (bench_batch, bench_import, bench_named, bench_nstep, bench_rollout, bench_step,
-               bench_structs)
+from . import (bench_batch, bench_import, bench_named, bench_nstep, bench_rollout, bench_sim,
+               bench_step, bench_structs)
 from mjcffi._machine import environment
 
 RESULTS = pathlib.Path(__file__).resolve().parent / "RESULTS.md"
@@ -29,7 +29,7 @@ def main(argv=None):
              "shared and noisy: read the ratios, not the absolute times.", ""]
     lines += environment() + [""]
     for bench in (bench_import, bench_step, bench_nstep, bench_structs, bench_named,
-                  bench_rollout, bench_batch):
+                  bench_rollout, bench_batch, bench_sim):
         lines += bench.run() + [""]
     text = "\n".join(lines)
     print(text)

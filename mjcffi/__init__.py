@@ -38,8 +38,9 @@ _LAZY = {
 }
 
 
-# submodules offered as attributes, as the official `mujoco.rollout` and `mujoco.batch`
-_SUBMODULES = ("rollout", "batch")
+# submodules offered as attributes: the official `mujoco.rollout` and `mujoco.batch`,
+# and the mujoco-py interface
+_SUBMODULES = ("rollout", "batch", "sim")
 
 
 def __getattr__(name):

@@ -5,7 +5,7 @@ from ._errors import FatalError as FatalError
 from ._functions import *
 from ._library import ffi as ffi, lib as lib
 from ._overrides import *
-from . import batch as batch, rollout as rollout
+from . import batch as batch, rollout as rollout, sim as sim
 from .callbacks import *
 from .structs import *
 from .data import MjData as MjData

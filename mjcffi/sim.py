@@ -31,16 +31,11 @@ import numpy as np
 from . import _marshal
 from . import warning_errors as _warnings
 from ._enums import mjtWarning
-from ._library import lib
 from .data import MjData
-from .functions import mj_forward, mj_resetData, mj_step
+from ._functions import mj_resetData
+from ._overrides import mj_forward, mj_step
+from ._simgetters import SimDataGetters, SimModelGetters
 from .model import MjModel
-
-try:
-    from ._simgetters import SimDataGetters, SimModelGetters
-    _MODEL_BASES, _DATA_BASES = (SimModelGetters, MjModel), (SimDataGetters, MjData)
-except ImportError:          # the generated getters are not part of this build
-    _MODEL_BASES, _DATA_BASES = (MjModel,), (MjData,)
 
 __all__ = ["SimModel", "SimData", "MjSim", "MjSimState", "MjSimPool", "MujocoException",
            "ignore_mujoco_warnings", "load_model_from_path", "load_model_from_xml",
@@ -49,14 +44,14 @@ __all__ = ["SimModel", "SimData", "MjSim", "MjSimState", "MjSimPool", "MujocoExc
 
 # ------------------------------------------------------------------ model and data
 
-class SimModel(*_MODEL_BASES):
+class SimModel(SimModelGetters, MjModel):
     """An MjModel that remembers the XML it was compiled from (`_xml`), for MjSim.save."""
 
     _xml = None          # the MJCF text, when loaded from XML
     _xml_path = None     # the file it came from, when loaded from a path
 
 
-class SimData(*_DATA_BASES):
+class SimData(SimDataGetters, MjData):
     """The MjData that MjSim makes for its model."""
 
 
