@@ -113,7 +113,6 @@ _HINTS = {
     mjtWarning.mjWARN_BADQACC: "NaN, Inf or huge value in qacc. " + _UNSTABLE,
     mjtWarning.mjWARN_BADCTRL: "NaN, Inf or huge value in ctrl: check the controls you set",
 }
-_NWARNING = int(mjtWarning.mjNWARNING)
 _local = threading.local()      # .ignoring: depth of ignore_mujoco_warnings() on this thread
 
 
@@ -125,23 +124,6 @@ def ignore_mujoco_warnings():
         yield
     finally:
         _local.ignoring -= 1
-
-
-def _take_counts(d):
-    """Zero the warning counters of `d` and return the old counts (see warning_errors)."""
-    warnings = d._ptr.warning
-    before = [warnings[i].number for i in range(_NWARNING)]
-    for i in range(_NWARNING):
-        warnings[i].number = 0
-    return before
-
-
-def _raise_new(d, before):
-    """Add the old counts back; raise MujocoException for a warning of the call."""
-    new = _warnings.restore(d, before)
-    for i in range(_NWARNING):
-        if new[i]:
-            raise MujocoException(mjtWarning(i), d._ptr.warning[i].lastinfo, new[i])
 
 
 # ------------------------------------------------------------------ state
@@ -273,13 +255,13 @@ class MjSim:
             # the process-wide switch already checks, or warnings are off here
             function(self.model, d, *args)
             return
-        before = _take_counts(d)
+        before = _warnings.take_counts(d)
         try:
             function(self.model, d, *args)
         except BaseException:
             _warnings.restore(d, before)
             raise
-        _raise_new(d, before)
+        _warnings.after_call(d, before, MujocoException)
 
     def reset(self):
         """mj_resetData, and udd_state from the udd_callback again."""

@@ -76,6 +76,11 @@ def before_call(d):
     """
     if not _enabled or getattr(_local, "ignoring", 0):
         return None
+    return take_counts(d)
+
+
+def take_counts(d):
+    """Zero the warning counters of `d` for a call; return the counts to add back."""
     warnings = d._ptr.warning
     before = [warnings[i].number for i in range(_NWARNING)]
     for i in range(_NWARNING):
@@ -92,8 +97,9 @@ def restore(d, before):
     return new
 
 
-def after_call(d, before):
-    """Put the earlier counts back, then raise MjWarningError for a warning of the call.
+def after_call(d, before, error=None):
+    """Put the earlier counts back, then raise `error` (MjWarningError by default)
+    for a warning of the call.
 
     If the call itself raised, call `restore` instead, so the counts are kept.
     """
@@ -102,4 +108,4 @@ def after_call(d, before):
     new = restore(d, before)
     for i in range(_NWARNING):
         if new[i]:
-            raise MjWarningError(mjtWarning(i), d._ptr.warning[i].lastinfo, new[i])
+            raise (error or MjWarningError)(mjtWarning(i), d._ptr.warning[i].lastinfo, new[i])
