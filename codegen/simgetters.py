@@ -6,10 +6,13 @@ plus `get_joint_qpos_addr` / `get_joint_qvel_addr`.  `SimDataGetters` (for an
 MjData subclass) has the `get_<object>_<quantity>` getters listed in DATA
 below, the joint, mocap and sensor getters and setters.
 
-The categories come from mjModel's `name_*adr` fields (as for named access);
-the joint widths and object types from the mjtJoint and mjtObj enums.  The
-tables below are the only hand-written parts.
+The categories come from mjModel's `name_*adr` fields (as for named access),
+the object types from the mjtObj enum.  The methods call the hand-written
+helpers of mjcffi/_simsupport.py; the tables below are the only special
+cases.
 """
+
+import textwrap
 
 from . import named, outputs
 
@@ -39,108 +42,9 @@ DATA = {
 # Short names also given to data getters (get_cam_xpos is get_camera_xpos).
 DATA_ALIASES = {"camera": "cam"}
 
-# Values per joint in qpos and in qvel, by joint type; other types take 1.
-WIDTHS = {"qpos": {"mjJNT_FREE": 7, "mjJNT_BALL": 4}, "qvel": {"mjJNT_FREE": 6, "mjJNT_BALL": 3}}
+# What the generated methods call, from the hand-written mjcffi/_simsupport.py.
+_SUPPORT = ('UnknownNameError', '_addr', '_all_names', '_get', '_id', '_jacobian', '_mocap_id', '_name', '_set', '_set_row', '_span', '_velocity')
 
-HELPERS = '''
-import numpy as np
-
-from ._functions import mj_jacBody, mj_jacGeom, mj_jacSite, mj_objectVelocity
-from .named import _name_of, _names, _unknown_name
-
-
-class UnknownNameError(KeyError, ValueError):
-    """No element of a category has this name: a ValueError, as in mujoco-py,
-    and a KeyError, as in named access."""
-
-    def __str__(self):
-        return str(self.args[0]) if self.args else ""
-
-
-def _id(model, category, name):
-    if not isinstance(name, str):
-        raise TypeError(f"expected a {category} name (str), not {type(name).__name__}")
-    element_id = _names(model, category).get(name)
-    if element_id is None:
-        raise UnknownNameError(_unknown_name(model, category, name))
-    return element_id
-
-
-def _name(model, category, element_id):
-    count = getattr(model, _SIZES[category])
-    if isinstance(element_id, (bool, np.bool_)) or not hasattr(element_id, "__index__"):
-        raise TypeError(f"expected a {category} id (int), not {type(element_id).__name__}")
-    element_id = element_id.__index__()
-    if not 0 <= element_id < count:
-        raise IndexError(f"{category} id {element_id} is out of range: the model has {count}")
-    return _name_of(model, category, element_id) or None
-
-
-def _all_names(model, category):
-    cache = model.__dict__.setdefault("_sim_names", {})
-    names = cache.get(category)
-    if names is None:
-        names = cache[category] = tuple(_name(model, category, i)
-                                        for i in range(getattr(model, _SIZES[category])))
-    return names
-
-
-def _span(model, joint_id, what):
-    """(start, width) of a joint in qpos or qvel."""
-    start = int((model.jnt_qposadr if what == "qpos" else model.jnt_dofadr)[joint_id])
-    return start, _WIDTHS[what].get(int(model.jnt_type[joint_id]), 1)
-
-
-def _addr(model, name, what):
-    start, width = _span(model, _id(model, "jnt", name), what)
-    return start if width == 1 else (start, start + width)
-
-
-def _get(array, start, width):
-    return array[start] if width == 1 else array[start:start + width].copy()
-
-
-def _set(array, start, width, value, what):
-    value = np.asarray(value, dtype=np.float64)
-    if width == 1:
-        if value.size != 1:
-            raise ValueError(f"{what} takes 1 value, got shape {value.shape}")
-        array[start] = value.reshape(())
-    else:
-        if value.shape != (width,):
-            raise ValueError(f"{what} takes shape ({width},), got {value.shape}")
-        array[start:start + width] = value
-
-
-def _velocity(data, objtype, element_id):
-    """(linear, angular) world-frame velocity of an object's frame."""
-    res = np.empty(6)
-    mj_objectVelocity(data.model, data, objtype, element_id, res, 0)
-    return res[3:].copy(), res[:3].copy()     # MuJoCo orders it (rot, lin)
-
-
-def _jacobian(data, function, element_id, which):
-    jac = np.zeros((3, data.model.nv))
-    if which == "p":
-        function(data.model, data, jac, None, element_id)
-    else:
-        function(data.model, data, None, jac, element_id)
-    return jac
-
-
-def _mocap_id(model, name):
-    mocap_id = int(model.body_mocapid[_id(model, "body", name)])
-    if mocap_id < 0:
-        raise ValueError(f"body {name!r} is not a mocap body")
-    return mocap_id
-
-
-def _set_row(array, row, value, width, what):
-    value = np.asarray(value, dtype=np.float64)
-    if value.shape != (width,):
-        raise ValueError(f"{what} takes shape ({width},), got {value.shape}")
-    array[row] = value
-'''
 
 
 def _public(category):
@@ -241,9 +145,7 @@ def generate(described, decls):
     cats = named.categories(described)
     model_fields = {f.name for f in described["mjModel"]}
     data_fields = {f.name for f in described["mjData"]}
-    joint = dict(decls.enums["mjtJoint"].members)
     objs = dict(decls.enums["mjtObj"].members)
-    widths = {what: {joint[k]: v for k, v in table.items()} for what, table in WIDTHS.items()}
     used = sorted({spec[1] for spec in DATA.values() if spec[1]})
     lines = [outputs.HEADER_PY.rstrip("\n"),
              '"""mujoco-py\'s named getters: mixins for MjModel and MjData subclasses.',
@@ -253,11 +155,12 @@ def generate(described, decls):
              "orientations are copies; xmat-like fields come as 3x3.  Velocities are",
              "world-frame, of the object's frame (a body's at d.xpos, as mj_jacBody).",
              '"""',
-             HELPERS.rstrip("\n"),
              "",
+             "from ._functions import mj_jacBody, mj_jacGeom, mj_jacSite",
+             "from ._simsupport import (  # noqa: F401  (UnknownNameError: for users)",
+             *textwrap.wrap(", ".join(_SUPPORT) + ")", 90, initial_indent="    ",
+                            subsequent_indent="    "),
              "",
-             f"_SIZES = {dict(cats)!r}",
-             f"_WIDTHS = {widths!r}",
              f"_OBJ = {dict((k, objs[k]) for k in used)!r}",
              "",
              "",
