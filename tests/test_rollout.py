@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi import callbacks, rollout
+from mjcffi import callbacks, rollout, scenes
 
 from .conftest import gymnasium_assets
 
@@ -51,18 +51,7 @@ SCENE = """
 </mujoco>
 """
 
-PENDULUM = """
-<mujoco>
-  <worldbody>
-    <body>
-      <joint name="hinge" axis="0 1 0"/>
-      <geom type="capsule" fromto="0 0 0 0 0 -1" size=".05"/>
-    </body>
-  </worldbody>
-  <actuator><motor joint="hinge"/></actuator>
-  <sensor><jointpos joint="hinge"/></sensor>
-</mujoco>
-"""
+PENDULUM = scenes.PENDULUM       # one hinge, one motor, one sensor
 
 GYMNASIUM = ["ant.xml", "half_cheetah.xml", "hopper.xml", "humanoid.xml", "pusher.xml",
              "walker2d.xml"]
