@@ -21,6 +21,7 @@ __version__ = "0.1.0"
 
 # public name -> module that defines it, imported on first use
 _LAZY = {
+    "MJTNUM_DTYPE": "._views", "MJTNUM_BYTES": "._views",   # NumPy loads on first use
     "MjModel": ".model",
     "MjData": ".data",
     "MjWarningError": ".warning_errors",
@@ -38,9 +39,9 @@ _LAZY = {
 }
 
 
-# submodules offered as attributes: the official `mujoco.rollout` and `mujoco.batch`,
-# and the mujoco-py interface
-_SUBMODULES = ("rollout", "batch", "sim")
+# submodules offered as attributes: the official `mujoco.rollout`, `mujoco.batch` and
+# `mujoco.minimize`, and the mujoco-py interface
+_SUBMODULES = ("rollout", "batch", "minimize", "sim")
 
 
 def __getattr__(name):

@@ -26,6 +26,10 @@ _TYPES = {
 }
 DTYPES = {name: np.dtype(t) for name, t in _TYPES.items()}
 
+# the NumPy type of mjtNum, under the official bindings' names
+MJTNUM_DTYPE = np.float64
+MJTNUM_BYTES = DTYPES["mjtNum"].itemsize
+
 
 class _Memory:
     """The base of a record view: describes the memory and keeps its root alive."""

@@ -1,0 +1,166 @@
+"""Run one official test file, against mjcffi (import swapped) or the official bindings.
+
+Each file runs in its own pytest process, in a fresh temporary folder that
+holds the file (rewritten for mjcffi), an empty pytest.ini, and a conftest.py
+that logs every test's start and result as a JSON line as it happens.  So a
+crash or a timeout still leaves the results before it, and names the test
+that was running.
+"""
+
+import dataclasses
+import importlib.util
+import json
+import os
+import pathlib
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+# The swap, applied to the whole text: import statements, `sys.modules`
+# lookups and the code strings the tests run in subprocesses.
+_REWRITES = (
+    (re.compile(r"\bfrom mujoco(\.[\w.]+)? import\b"), r"from mjcffi\1 import"),
+    (re.compile(r"\bimport mujoco\b(?![.\w])"), "import mjcffi as mujoco"),
+    (re.compile(r"""(sys\.modules\[['"])mujoco\."""), r"\1mjcffi."),
+)
+
+# Logs each test's start and reports to $CONFORMANCE_LOG, one JSON object a line.
+_LOGGER = '''
+import json, os
+
+_LOG = open(os.environ["CONFORMANCE_LOG"], "a", buffering=1)
+
+
+def _write(**record):
+    _LOG.write(json.dumps(record) + "\\n")
+
+
+def _message(report):
+    longrepr = report.longrepr
+    if isinstance(longrepr, tuple):           # a skip: (file, line, reason)
+        return str(longrepr[2])
+    crash = getattr(longrepr, "reprcrash", None)
+    if crash is not None:
+        return crash.message
+    return str(longrepr).strip().splitlines()[-1] if longrepr else ""
+
+
+def pytest_runtest_logstart(nodeid, location):
+    _write(event="start", nodeid=nodeid)
+
+
+def pytest_runtest_logreport(report):
+    outcome = "xfailed" if hasattr(report, "wasxfail") else report.outcome
+    if report.when == "call" or outcome != "passed":
+        _write(event="report", nodeid=report.nodeid, when=report.when, outcome=outcome,
+               subtest=type(report).__name__ == "SubtestReport",
+               message="" if outcome == "passed" else _message(report))
+
+
+def pytest_collectreport(report):
+    if report.failed:
+        _write(event="collect_error", nodeid=report.nodeid, message=_message(report))
+'''
+
+
+@dataclasses.dataclass
+class Outcome:
+    """One test's result: passed, failed, skipped, xfailed, crashed or timeout."""
+    outcome: str
+    message: str = ""
+
+
+@dataclasses.dataclass
+class FileResult:
+    """The results of one official test file."""
+    name: str
+    tests: dict                      # nodeid -> Outcome, in run order
+    collect_error: str = ""
+    returncode: int = 0
+    seconds: float = 0.0
+
+    def count(self, *outcomes):
+        return sum(t.outcome in outcomes for t in self.tests.values())
+
+    @property
+    def passed(self):
+        """Passes, counting an expected failure that failed as expected."""
+        return self.count("passed", "xfailed")
+
+
+def official_dir():
+    """The folder of the installed official `mujoco` package (not imported here)."""
+    spec = importlib.util.find_spec("mujoco")
+    if spec is None or not spec.submodule_search_locations:
+        raise RuntimeError("the official `mujoco` package is not installed: "
+                           "pip install mujoco-core==4.0.0")
+    return pathlib.Path(list(spec.submodule_search_locations)[0])
+
+
+def official_files():
+    """Names of the official test files, e.g. 'bindings_test.py'."""
+    return sorted(p.name for p in official_dir().glob("*_test.py"))
+
+
+def swap_imports(text):
+    """The test file's text with every use of `mujoco` turned into `mjcffi as mujoco`."""
+    for pattern, replacement in _REWRITES:
+        text = pattern.sub(replacement, text)
+    return text
+
+
+def run_file(name, target="mjcffi", timeout=900, keyword=None):
+    """Run official test file `name` against `target` ('mjcffi' or 'official')."""
+    source = (official_dir() / name).read_text()
+    with tempfile.TemporaryDirectory(prefix="conformance-") as folder:
+        folder = pathlib.Path(folder)
+        (folder / name).write_text(swap_imports(source) if target == "mjcffi" else source)
+        (folder / "pytest.ini").write_text("[pytest]\n")
+        (folder / "conftest.py").write_text(_LOGGER)
+        log = folder / "results.jsonl"
+        log.touch()
+        command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+                   "--rootdir", str(folder), name]
+        if keyword:
+            command += ["-k", keyword]
+        env = dict(os.environ, CONFORMANCE_LOG=str(log), PYTHONDONTWRITEBYTECODE="1")
+        start = time.perf_counter()
+        try:
+            done = subprocess.run(command, cwd=folder, env=env, capture_output=True,
+                                  text=True, timeout=timeout)
+            returncode, tail = done.returncode, done.stdout + done.stderr
+        except subprocess.TimeoutExpired:
+            returncode, tail = None, ""
+        seconds = time.perf_counter() - start
+        records = [json.loads(line) for line in log.read_text().splitlines() if line]
+    return _result(name, records, returncode, tail, seconds)
+
+
+def _result(name, records, returncode, tail, seconds):
+    tests, collect_error = {}, ""
+    for record in records:
+        nodeid = record["nodeid"].split("::", 1)[-1]
+        if record["event"] == "start":
+            tests.setdefault(nodeid, Outcome("crashed" if returncode is not None else "timeout"))
+        elif record["event"] == "collect_error":
+            collect_error = record["message"]
+        else:
+            _merge(tests.setdefault(nodeid, Outcome("passed")), record)
+    if returncode not in (0, 1, 5) and not tests and not collect_error:
+        collect_error = f"pytest exited with {returncode}: " + tail.strip()[-300:]
+    return FileResult(name, tests, collect_error, returncode if returncode is not None else -1,
+                      seconds)
+
+
+_RANK = {"crashed": 0, "timeout": 0, "passed": 1, "xfailed": 2, "skipped": 3, "failed": 4}
+
+
+def _merge(outcome, record):
+    """Fold one report into a test's outcome: a failure anywhere fails the test."""
+    new = record["outcome"]
+    if outcome.outcome in ("crashed", "timeout") or _RANK[new] > _RANK[outcome.outcome]:
+        outcome.outcome = new
+        if record["message"]:
+            outcome.message = record["message"]
