@@ -1,8 +1,8 @@
 """Run one official test file, against mjcffi (import swapped) or the official bindings.
 
-Each file runs in its own pytest process, in a fresh temporary folder that
-holds the file (rewritten for mjcffi), an empty pytest.ini, and a conftest.py
-that logs every test's start and result as a JSON line as it happens.  So a
+Each file runs in its own pytest process, from a fresh temporary folder that
+holds an empty pytest.ini, the file rewritten for mjcffi, and a plugin that
+logs every test's start and result as a JSON line as it happens.  So a
 crash or a timeout still leaves the results before it, and names the test
 that was running.
 """
@@ -112,20 +112,31 @@ def swap_imports(text):
 
 
 def run_file(name, target="mjcffi", timeout=900, keyword=None):
-    """Run official test file `name` against `target` ('mjcffi' or 'official')."""
-    source = (official_dir() / name).read_text()
+    """Run official test file `name` against `target` ('mjcffi' or 'official').
+
+    For mjcffi the file runs as a rewritten copy in a temporary folder; for the
+    official bindings it runs where it was installed, as upstream runs it.
+    """
+    original = official_dir() / name
     with tempfile.TemporaryDirectory(prefix="conformance-") as folder:
         folder = pathlib.Path(folder)
-        (folder / name).write_text(swap_imports(source) if target == "mjcffi" else source)
+        if target == "mjcffi":
+            test_file = folder / name
+            test_file.write_text(swap_imports(original.read_text()))
+        else:
+            test_file = original
         (folder / "pytest.ini").write_text("[pytest]\n")
-        (folder / "conftest.py").write_text(_LOGGER)
+        (folder / "_conformance_log.py").write_text(_LOGGER)
         log = folder / "results.jsonl"
         log.touch()
         command = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
-                   "--rootdir", str(folder), name]
+                   "-p", "_conformance_log", "-c", str(folder / "pytest.ini"),
+                   "--rootdir", str(folder), str(test_file)]
         if keyword:
             command += ["-k", keyword]
-        env = dict(os.environ, CONFORMANCE_LOG=str(log), PYTHONDONTWRITEBYTECODE="1")
+        path = os.pathsep.join(filter(None, [str(folder), os.environ.get("PYTHONPATH")]))
+        env = dict(os.environ, CONFORMANCE_LOG=str(log), PYTHONDONTWRITEBYTECODE="1",
+                   PYTHONPATH=path)
         start = time.perf_counter()
         try:
             done = subprocess.run(command, cwd=folder, env=env, capture_output=True,
@@ -141,7 +152,7 @@ def run_file(name, target="mjcffi", timeout=900, keyword=None):
 def _result(name, records, returncode, tail, seconds):
     tests, collect_error = {}, ""
     for record in records:
-        nodeid = record["nodeid"].split("::", 1)[-1]
+        nodeid = record["nodeid"].split(".py::", 1)[-1]
         if record["event"] == "start":
             tests.setdefault(nodeid, Outcome("crashed" if returncode is not None else "timeout"))
         elif record["event"] == "collect_error":
