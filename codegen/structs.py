@@ -3,7 +3,11 @@
 One module per MuJoCo header (structs/mjmodel.py holds MjOption, MjVisual,
 MjStatistic, MjModel, ...).  Each class is a list of fields built from
 mjcffi/_views.py's pieces: scalars are properties, arrays cached zero-copy
-views, nested structs cached wrappers, arrays of structs StructArrays.
+views, nested structs cached wrappers, arrays of structs StructArrays.  A
+struct of values only derives from ValueStruct (compared field by field, with
+the official repr); one holding pointers from Struct (compared by identity).
+The tables below say where MuJoCo's headers alone do not give the official
+behaviour: extents, writable scalars, constructors.
 """
 
 import keyword
@@ -28,6 +32,58 @@ _EXTENDED = {"mjModel": "mjcffi/model.py", "mjData": "mjcffi/data.py"}
 
 # char arrays of NUL-separated strings, shown as bytes as the official bindings do
 _STRING_BLOBS = {"names", "paths", "text_data"}
+
+# Extents the header comments do not give in a form we can read, or give as the
+# count in use where the official bindings show the whole allocation, or in
+# another shape than the official.  `self.` names a field of the same struct;
+# total(p, n) sums n ints at p.
+_EXTENTS = {
+    ("mjvGeom", "mat"): (3, 3),
+    ("mjvScene", "geoms"): ("self.maxgeom",),
+    ("mjvScene", "geomorder"): ("self.maxgeom",),
+    ("mjvScene", "flexedge"): ("2*total(self.flexedgenum, self.nflex)",),
+    ("mjvScene", "flexvert"): ("3*total(self.flexvertnum, self.nflex)",),
+    ("mjvScene", "flexface"): ("9*total(self.flexfacenum, self.nflex)",),
+    ("mjvScene", "flexnormal"): ("9*total(self.flexfacenum, self.nflex)",),
+    ("mjvScene", "flextexcoord"): ("6*total(self.flexfacenum, self.nflex)",),
+    ("mjvScene", "skinvert"): ("3*total(self.skinvertnum, self.nskin)",),
+    ("mjvScene", "skinnormal"): ("3*total(self.skinvertnum, self.nskin)",),
+}
+
+# Scalars of mjData that may be written (the official bindings let every one be).
+# The sizes and addresses stay read-only: a wrong ncon or parena would make
+# views and MuJoCo itself reach outside the allocated memory.  The stack
+# pointers are bounded by the arena (see _BOUNDS), so that a test can provoke a
+# stack overflow.
+_DATA_WRITABLE = {"time", "pstack", "pbase"}
+_DATA_WRITABLE_PREFIXES = ("maxuse_", "flg_")
+
+# Extra bounds on scalars: the value must stay within 0..<field or int>.
+_BOUNDS = {"mjData": {"pstack": "narena", "pbase": "narena"}}
+
+# Writing the flag also writes the legacy count, 1 or 0, as the official bindings do.
+_MIRRORS = {("mjModel", "flg_gravcomp"): "ngravcomp"}
+
+# Structs with value equality by the rules below that the official bindings
+# compare by identity instead (and so keep hashable).
+_IDENTITY = {"mjvFigure"}
+
+# Structs the official bindings build from their fields: (field, default or
+# None for a required argument), in order.
+_FIELD_CONSTRUCTORS = {
+    "mjrRect": (("left", None), ("bottom", None), ("width", None), ("height", None)),
+    "mjrVertexAttribute": (("usage", 0), ("type", 0)),
+}
+
+# Initializers that are not mj*_default<Struct>(s): MjvGeom() is an mjGEOM_NONE
+# geom with MuJoCo's defaults, as in the official bindings.
+_INITIALIZERS = {
+    "mjvGeom": "lib.mjv_initGeom(root, lib.mjGEOM_NONE, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL)",
+}
+
+# Made by mj*_make<Struct> even with no arguments: MjvScene() is
+# mjv_makeScene(NULL, scn, 0), whose defaults (scale 1, flags) the official has.
+_MAKE_WITHOUT_ARGUMENTS = {"mjvScene"}
 
 # Structs whose memory MuJoCo allocates and frees itself: no Python constructor here
 # (mjcffi.MjModel and mjcffi.MjData add theirs).  Spec elements live inside an
@@ -86,6 +142,26 @@ class _Context:
                 return False
         return True
 
+    def sizes(self, cname):
+        """Scalars that size the arrays the struct points to (mjvScene.nflex, maxgeom)."""
+        found = set()
+        for f in self.described[cname]:
+            if f.kind == "pointer":
+                for extent in _extents(cname, f):
+                    found.update(re.findall(r"\bself\.(\w+)", str(extent)))
+        return found
+
+    def values(self, cname, seen=()):
+        """Only values inside, recursively (C strings count as values): comparable
+        field by field."""
+        for f in self.described[cname]:
+            if f.kind == "function" or f.kind == "pointer" and not _is_cstring(f):
+                return False
+            if self.is_struct(f.elem) and f.elem not in seen and \
+                    not self.values(f.elem, seen + (cname,)):
+                return False
+        return True
+
     def function(self, verb, cname, nargs=None):
         """The function `mj*_<verb><Suffix>` for struct `cname`, and its struct argument.
 
@@ -137,59 +213,108 @@ def _pytype(elem):
     return "int"
 
 
+def _is_cstring(f):
+    """A `const char *` of no stated extent: a NUL-terminated string."""
+    return f.kind == "pointer" and f.elem == "char" and f.const and not f.extents
+
+
+def _extents(struct, f):
+    return _EXTENTS.get((struct, f.name), f.extents)
+
+
+def _moves(struct, f):
+    return f.moves or any("self." in str(e) for e in _extents(struct, f))
+
+
 def _field_line(ctx, struct, f, refs):
     """The class-body text for one field: `name = builder(...)` or a property."""
     attr = attr_name(f.name)
     doc = repr(f.doc)
     if f.kind == "scalar":
-        readonly = ", readonly=True" if _readonly(struct, f) else ""
-        return f"{attr}: {_pytype(f.elem)} = scalar({f.name!r}, {doc}{readonly})"
+        options = _scalar_options(ctx, struct, f)
+        return f"{attr}: {_pytype(f.elem)} = scalar({f.name!r}, {doc}{options})"
     if f.kind == "struct":
         refs.add(f.elem)
         return f"{attr} = Nested({f.name!r}, lambda: {class_name(f.elem)}, {doc})"
     if f.kind == "array":
-        if f.elem == "char" and len(f.extents) == 1:
-            return f"{attr}: str = text({f.name!r}, {f.extents[0]}, {doc})"
-        if ctx.is_struct(f.elem):
-            refs.add(f.elem)
-            return (f"{attr} = FixedRecords({f.name!r}, lambda: {class_name(f.elem)}, "
-                    f"{_size(f.extents)}, {doc})")
-        if f.elem in _NUMERIC_OR_CHAR:
-            return (f"{attr} = FixedArray({f.name!r}, {f.elem!r}, "
-                    f"{_shape_lambda(struct, f.extents)}, {doc})")
-        return f"{attr} = pointer({f.name!r}, {doc})"
-    if f.kind == "pointer" and f.extents:
+        return _array_line(ctx, struct, f, refs)
+    extents = _extents(struct, f)
+    if _is_cstring(f):
+        return f"{attr}: str = cstring({f.name!r}, {doc})"
+    if f.kind == "pointer" and extents:
         if f.elem == "char" and f.name in _STRING_BLOBS:
             return (f"{attr}: bytes = chars({f.name!r}, "
-                    f"{_count_lambda(struct, f.extents)}, {doc})")
+                    f"{_count_lambda(struct, extents)}, {doc})")
         if ctx.is_struct(f.elem):
             refs.add(f.elem)
             return (f"{attr} = Records({f.name!r}, lambda: {class_name(f.elem)}, "
-                    f"{_count_lambda(struct, f.extents)}, {doc})")
+                    f"{_count_lambda(struct, extents)}, {doc})")
         if f.elem in _NUMERIC_OR_CHAR:
-            kind = "DynamicArray" if f.moves else "Array"
+            kind = "DynamicArray" if _moves(struct, f) else "Array"
+            fill = ", fill=-1" if "-1: none" in f.doc else ""
             return (f"{attr} = {kind}({f.name!r}, {f.elem!r}, "
-                    f"{_shape_lambda(struct, f.extents)}, {doc})")
+                    f"{_shape_lambda(struct, extents)}, {doc}{fill})")
     return f"{attr} = pointer({f.name!r}, {doc})"
 
 
-def _readonly(struct, f):
-    """Scalars whose writing would break MuJoCo's invariants."""
+def _array_line(ctx, struct, f, refs):
+    """A fixed-size array field: text, rows of text, structs or numbers."""
+    attr = attr_name(f.name)
+    doc = repr(f.doc)
+    if f.elem == "char" and len(f.extents) == 1:
+        return f"{attr}: str = text({f.name!r}, {f.extents[0]}, {doc})"
+    if f.elem == "char" and len(f.extents) == 2:      # rows of bytes, as the official shows
+        rows, size = f.extents
+        return f"{attr} = FixedArray({f.name!r}, 'S{size}', lambda s: ({rows},), {doc})"
+    if ctx.is_struct(f.elem):
+        refs.add(f.elem)
+        return (f"{attr} = FixedRecords({f.name!r}, lambda: {class_name(f.elem)}, "
+                f"{_size(f.extents)}, {doc})")
+    if f.elem in _NUMERIC_OR_CHAR:
+        return (f"{attr} = FixedArray({f.name!r}, {f.elem!r}, "
+                f"{_shape_lambda(struct, _extents(struct, f))}, {doc})")
+    return f"{attr} = pointer({f.name!r}, {doc})"
+
+
+def _scalar_options(ctx, struct, f):
+    options = ""
+    if _readonly(ctx, struct, f):
+        options += ", readonly=True"
+    if f.elem == "mjtBool":
+        options += ", boolean=True"
+    mirror = _MIRRORS.get((struct, f.name))
+    if mirror:
+        options += f", mirror={mirror!r}"
+    return options
+
+
+def _readonly(ctx, struct, f):
+    """Scalars whose writing would break MuJoCo's invariants or overrun memory."""
     if struct == "mjModel":
-        return True                        # sizes and addresses of the compiled model
+        return not f.name.startswith("flg_")     # sizes and addresses of the compiled model
     if struct == "mjData":
-        return f.name != "time"            # sizes, stack and arena bookkeeping
-    return f.name.startswith("max") or f.name in ("nbuffer", "narena")
+        return not (f.name in _DATA_WRITABLE or f.name.startswith(_DATA_WRITABLE_PREFIXES))
+    return f.name in ctx.sizes(struct)
 
 
 def _bounds(ctx, struct):
-    """Scalars n<X> that must stay within max<X> of the same struct (ngeom <= maxgeom)."""
-    names = {f.name for f in ctx.described[struct]}
-    return {f.name: "max" + f.name[1:] for f in ctx.described[struct]
-            if f.kind == "scalar" and f.name.startswith("n") and "max" + f.name[1:] in names}
+    """Scalars kept within a limit: n<X> within max<X> of the same struct (ngeom <=
+    maxgeom), a count within the fixed array it counts (nlight <= mjMAXLIGHT),
+    and those of _BOUNDS."""
+    infos = ctx.described[struct]
+    names = {f.name for f in infos}
+    out = {f.name: "max" + f.name[1:] for f in infos
+           if f.kind == "scalar" and f.name.startswith("n") and "max" + f.name[1:] in names}
+    for f in infos:
+        counted = re.search(r"\((n\w+)\)$", f.doc)
+        if f.kind == "array" and len(f.extents) == 1 and counted and counted.group(1) in names:
+            out[counted.group(1)] = f.extents[0]
+    out.update(_BOUNDS.get(struct, {}))
+    return out
 
 
 def _repr_fields(ctx, struct):
+    """The fields of the short repr of a struct compared by identity."""
     infos = ctx.described[struct]
     if struct == "mjModel":
         wanted = ["nq", "nv", "nu", "na", "nbody", "njnt", "ngeom", "nsite", "nsensor", "nkey"]
@@ -199,6 +324,12 @@ def _repr_fields(ctx, struct):
     small = [f.name for f in infos if f.kind == "scalar" or
              f.kind == "array" and f.elem in _NUMERIC and _size(f.extents) <= 16]
     return tuple(attr_name(n) for n in small[:12])
+
+
+def _by_value(ctx, struct):
+    """Compared field by field (and so unhashable), as the official bindings do."""
+    return ctx.values(struct) and struct not in _IDENTITY and \
+        not _NOT_CONSTRUCTIBLE.match(struct)
 
 
 def _size(extents):
@@ -211,6 +342,8 @@ def _size(extents):
 def _constructor(ctx, struct):
     """Lines of __init__ for one class, or [] when it has none."""
     pycls = class_name(struct)
+    if struct in _FIELD_CONSTRUCTORS:
+        return _field_constructor(struct)
     if "." in struct:
         return []                          # Struct.__init__ zero-initializes
     if _NOT_CONSTRUCTIBLE.match(struct):
@@ -219,34 +352,16 @@ def _constructor(ctx, struct):
                 ""]
     default, _ = ctx.function("default", struct, nargs=1)
     make, made = ctx.function("make", struct)
-    lines = []
     if make is not None and make.restype.decl == "void":
-        extra = [a for a in make.args if a is not made]
-        free, _ = ctx.function("free", struct, nargs=1)
-        params = ", ".join(f"{_param(a)}=None" for a in extra)
-        lines.append(f"    def __init__(self, {params}):")
-        lines.append(f'        """{pycls}() is zero- or default-initialized; {pycls}('
-                     f'{", ".join(_param(a) for a in extra)}) is made by {make.name}'
-                     + (f" and freed by {free.name} when collected" if free else "") + '."""')
-        lines.append(f"        root = ffi.new({struct + ' *'!r})")
-        if default is not None:
-            lines.append(f"        lib.{default.name}(root)")
-        given = " or ".join(f"{_param(a)} is not None" for a in extra)
-        lines.append(f"        if {given}:")
-        call = ", ".join("root" if a is made else _arg_expr(a) for a in make.args)
-        lines.append(f"            guarded(lib.mjcffi_guard_{make.name}, {call})")
-        if free is not None:
-            lines.append(f"            root = ffi.gc(root, lib.{free.name})")
-        lines.append("        self._init_root(root)")
-        lines.append("")
-        return lines
-    if default is None:
+        return _make_constructor(ctx, struct, default, make, made)
+    init = f"lib.{default.name}(root)" if default is not None else _INITIALIZERS.get(struct)
+    if init is None:
         return []                          # Struct.__init__ zero-initializes
-    lines.append("    def __init__(self):")
+    lines = ["    def __init__(self):"]
     delete, _ = ctx.function("delete", struct, nargs=1)
-    lines.append(f'        """A new {struct}, initialized by {default.name}."""')
+    lines.append(f'        """A new {struct}, initialized by {init.split("(")[0][4:]}."""')
     lines.append(f"        root = ffi.new({struct + ' *'!r})")
-    lines.append(f"        lib.{default.name}(root)")
+    lines.append(f"        {init}")
     if delete is not None:
         lines.append(f"        root = ffi.gc(root, lib.{delete.name})")
     lines.append("        self._init_root(root)")
@@ -254,33 +369,87 @@ def _constructor(ctx, struct):
     return lines
 
 
+def _make_constructor(ctx, struct, default, make, made):
+    """__init__ of a struct made by mj*_make<Struct>: with all its arguments or none."""
+    pycls = class_name(struct)
+    extra = [a for a in make.args if a is not made]
+    free, _ = ctx.function("free", struct, nargs=1)
+    names = [_param(a) for a in extra]
+    always = struct in _MAKE_WITHOUT_ARGUMENTS
+    lines = [f"    def __init__(self, {', '.join(n + '=None' for n in names)}):"]
+    lines.append(f'        """{pycls}() is ' +
+                 (f"made by {make.name} with no model" if always else "default-initialized") +
+                 f'; {pycls}({", ".join(names)}) is made by {make.name}' +
+                 (f" and freed by {free.name} when collected" if free else "") + '."""')
+    if len(names) > 1:
+        lines.append(f"        if len({{x is None for x in ({', '.join(names)})}}) > 1:")
+        message = f"{pycls} takes {' and '.join(names)} together, or none of them"
+        lines.append(f"            raise TypeError({message!r})")
+    lines.append(f"        root = ffi.new({struct + ' *'!r})")
+    if default is not None:
+        lines.append(f"        lib.{default.name}(root)")
+    call = ", ".join("root" if a is made else _arg_expr(a, always) for a in make.args)
+    indent = "        "
+    if not always:
+        lines.append(f"        if {names[0]} is not None:")
+        indent += "    "
+    lines.append(f"{indent}guarded(lib.mjcffi_guard_{make.name}, {call})")
+    if free is not None:
+        lines.append(f"{indent}root = ffi.gc(root, lib.{free.name})")
+    lines.append("        self._init_root(root)")
+    lines.append("")
+    return lines
+
+
+def _field_constructor(struct):
+    """__init__ taking the struct's fields, as the official MjrRect(left, bottom, ...)."""
+    fields = _FIELD_CONSTRUCTORS[struct]
+    params = ", ".join(n if d is None else f"{n}={d!r}" for n, d in fields)
+    lines = [f"    def __init__(self, {params}):",
+             f'        """{class_name(struct)}({", ".join(n for n, _ in fields)}): '
+             f'a new {struct} with these fields."""',
+             "        super().__init__()"]
+    lines += [f"        self.{n} = {n}" for n, _ in fields]
+    return lines + [""]
+
+
 def _param(arg):
     return "model" if arg.type.base == "mjModel" else ("data" if arg.type.base == "mjData"
                                                        else arg.name)
 
 
-def _arg_expr(arg):
+def _arg_expr(arg, optional=False):
+    """The C argument for the Python parameter of `arg`: NULL or 0 when `optional`
+    and the parameter is None."""
+    name = _param(arg)
     if arg.type.pointer and arg.type.base in ("mjModel", "mjData"):
-        return f"struct_pointer({_param(arg)}, {arg.type.base!r}, {_param(arg)!r})"
-    return f"int_argument({_param(arg)}, {_param(arg)!r})"
+        expr = f"struct_pointer({name}, {arg.type.base!r}, {name!r})"
+        return f"ffi.NULL if {name} is None else {expr}" if optional else expr
+    expr = f"int_argument({name}, {name!r})"
+    return f"0 if {name} is None else {expr}" if optional else expr
 
 
 def _class(ctx, struct, refs):
     infos = ctx.described[struct]
     pycls = class_name(struct)
     doc = ctx.comment.get(struct) or ""
-    lines = [f"class {pycls}(Struct):",
+    by_value = _by_value(ctx, struct)
+    lines = [f"class {pycls}({'ValueStruct' if by_value else 'Struct'}):",
              f'    """{struct}' + (f": {doc}" if doc else "") + '."""',
              "",
              f"    _cname = {struct!r}",
              f"    _ctype = struct_type({struct!r})",
-             f"    _repr_fields = {_repr_fields(ctx, struct)!r}"]
+             f"    _fields = {tuple(attr_name(f.name) for f in infos)!r}"]
+    if not by_value:
+        lines.append(f"    _repr_fields = {_repr_fields(ctx, struct)!r}")
     if not ctx.plain(struct):
         lines.append("    _plain = False")
     bounds = _bounds(ctx, struct)
     if bounds:
         lines.append(f"    _bounds = {bounds!r}")
-    lines.append("")
+    aliases = _nested_aliases(ctx, struct)
+    lines += [""] + (["    # the nested structs under their official names"] + aliases + [""]
+                     if aliases else [])
     lines += _constructor(ctx, struct)
     hot = _EAGER.get(struct, ())
     eager = []
@@ -312,7 +481,7 @@ def generate(described, decls, header_texts, notes):
     files, exports, deps = {}, {}, {}
     for module in order:
         refs, body = set(), []
-        for struct in modules[module]:
+        for struct in _nested_first(modules[module]):
             body += _class(ctx, struct, refs) + ["", ""]
             if struct not in _EXTENDED:
                 exports[class_name(struct)] = module
@@ -336,6 +505,19 @@ def generate(described, decls, header_texts, notes):
     return files
 
 
+def _nested_first(structs):
+    """The module's structs with each nested one before the struct holding it, so
+    that the outer class can name it (MjVisual.Global)."""
+    roots = [s for s in structs if "." not in s]
+    return sorted(structs, key=lambda s: (roots.index(s.split(".")[0]), "." not in s))
+
+
+def _nested_aliases(ctx, struct):
+    """`Global = MjVisualGlobal`: the official names of the struct's nested structs."""
+    return [f"    {inner.rpartition('.')[2].capitalize()} = {class_name(inner)}"
+            for inner in ctx.described if inner.rpartition(".")[0] == struct]
+
+
 def _package_stub(modules):
     """The type stub of the lazy package: what its __getattr__ can return."""
     lines = [outputs.HEADER_PY.rstrip("\n")]
@@ -344,8 +526,8 @@ def _package_stub(modules):
 
 
 _VIEWS_NAMES = ("Array", "DynamicArray", "FixedArray", "FixedRecords", "Nested", "Records",
-                "Struct", "chars", "eager", "guarded", "int_argument", "pointer", "scalar",
-                "struct_pointer", "struct_type", "text")
+                "Struct", "ValueStruct", "chars", "cstring", "eager", "guarded", "int_argument",
+                "pointer", "scalar", "struct_pointer", "struct_type", "text", "total")
 
 
 def _imports(body):
@@ -354,8 +536,7 @@ def _imports(body):
     library = [n for n in ("ffi", "lib") if re.search(rf"\b{n}\.", text)]
     lines = ["from numpy import ndarray", ""] if ": ndarray" in text else []
     lines += [f"from .._library import {', '.join(library)}"] if library else []
-    views = [n for n in _VIEWS_NAMES if re.search(rf"\b{n}\(", text)] + ["Struct"]
-    views.sort(key=_VIEWS_NAMES.index)
+    views = [n for n in _VIEWS_NAMES if re.search(rf"\b{n}\(|\({n}\):", text)]
     line = "from .._views import " + ", ".join(views)
     if len(line) > 99:
         wrapped = textwrap.wrap(", ".join(views), 76)

@@ -13,7 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ._errors import check, raise_pending
+from ._errors import check, raise_pending, with_note
 from ._library import ffi
 
 # C element type (MuJoCo's name or cffi's resolved one) -> NumPy dtype.
@@ -31,16 +31,6 @@ MJTNUM_DTYPE = np.float64
 MJTNUM_BYTES = DTYPES["mjtNum"].itemsize
 
 
-class _Memory:
-    """The base of a record view: describes the memory and keeps its root alive."""
-    __slots__ = ("__array_interface__", "root")
-
-    def __init__(self, address, shape, dtype, root):
-        self.root = root
-        self.__array_interface__ = {"data": (address, False), "shape": shape,
-                                    "typestr": dtype.str, "descr": dtype.descr, "version": 3}
-
-
 class _KeepAlive:
     """A no-op destructor whose only job is to reference the root."""
     __slots__ = ("root",)
@@ -52,16 +42,17 @@ class _KeepAlive:
         pass
 
 
-def view(pointer, dtype, shape, root):
+def view(pointer, dtype, shape, root, fill=0):
     """A writable view of `shape` elements of `dtype` at `pointer` (a C pointer).
 
     The view's base is a cffi buffer, which keeps its pointer cdata alive; that
     cdata is an `ffi.gc` copy whose destructor references `root`.  So the view
     keeps the memory's owner alive, at half the cost of an array-interface
-    holder.
+    holder.  Memory not allocated (NULL) reads as a new array of `fill`, as in
+    the official bindings (-1 for index arrays whose "none" is -1).
     """
     if pointer == ffi.NULL or 0 in shape:
-        return np.zeros(shape, dtype)     # nothing allocated: zeros, as the official bindings
+        return np.full(shape, fill, dtype) if fill else np.zeros(shape, dtype)
     count = shape[0]
     for n in shape[1:]:
         count *= n
@@ -71,11 +62,11 @@ def view(pointer, dtype, shape, root):
 
 
 def record_view(pointer, dtype, count, root):
-    """A view of `count` structs as a structured array (see record_dtype)."""
-    if pointer == ffi.NULL or count == 0:
-        return np.zeros((count,), dtype)
-    address = int(ffi.cast("uintptr_t", pointer))
-    return np.asarray(_Memory(address, (count,), dtype, root))
+    """A view of `count` structs as a structured array (see record_dtype).
+
+    Through a buffer, as `view`: the array interface cannot describe the
+    overlapping fields of an anonymous union (mjuiItem)."""
+    return view(pointer, dtype, (count,), root)
 
 
 # ------------------------------------------------------------ struct records
@@ -135,17 +126,32 @@ class _Cached:
     @property
     def attr(self):
         """The Python attribute name: C keywords get a trailing '_' (vis.global_)."""
-        return self.name + "_" if keyword.iskeyword(self.name) else self.name
+        return _attr(self.name)
+
+
+def _attr(name):
+    return name + "_" if keyword.iskeyword(name) else name
+
+
+def _dtype(elem):
+    """A C element type's dtype; 'S40' (a row of char[35][40]) is a bytes string."""
+    return DTYPES.get(elem) or np.dtype(elem)
 
 
 class Array(_Cached):
-    """An array field: a zero-copy view of the memory it points to."""
+    """An array field: a zero-copy view of the memory it points to.
 
-    def __init__(self, name, elem, shape, doc=""):
-        self.name, self.dtype, self.shape, self.__doc__ = name, DTYPES[elem], shape, doc
+    `fill` is what unallocated (NULL) memory reads as: -1 for the index arrays
+    whose header says "-1: none", else 0.
+    """
+
+    def __init__(self, name, elem, shape, doc="", fill=0):
+        self.name, self.dtype, self.shape, self.__doc__ = name, _dtype(elem), shape, doc
+        self.fill = fill
 
     def build(self, obj):
-        return view(getattr(obj._ptr, self.name), self.dtype, self.shape(obj), obj._root)
+        return view(getattr(obj._ptr, self.name), self.dtype, self.shape(obj), obj._root,
+                    self.fill)
 
 
 class FixedArray(Array):
@@ -196,9 +202,11 @@ class DynamicArray(Array):
 
 
 class Records:
-    """A pointed-to array of structs whose count changes (mjData.contact: ncon).
+    """A pointed-to array of structs (mjData.contact: ncon, mjvScene.geoms: maxgeom).
 
-    A read-only data descriptor giving a fresh StructArray on every read.
+    A read-only data descriptor.  The StructArray it gives reads the address and
+    the count on each use: one taken before a step holds the contacts that the
+    step finds, and one of a scene remade by mjv_makeScene its new geoms.
     """
 
     def __init__(self, name, wrapper, count, doc=""):
@@ -207,8 +215,7 @@ class Records:
     def __get__(self, obj, cls=None):
         if obj is None:
             return self
-        return StructArray(self.wrapper(), getattr(obj._ptr, self.name), self.count(obj),
-                           obj._root)
+        return LiveStructArray(self.wrapper(), obj, self.name, self.count)
 
     def __set__(self, obj, value):
         raise AttributeError(f"{type(obj).__name__}.{self.name} cannot be assigned")
@@ -225,64 +232,168 @@ def assign(target, value, name):
 # ------------------------------------------------------------- struct arrays
 
 class StructArray(Sequence):
-    """A sequence of struct wrappers over C memory, e.g. `d.contact`.
+    """A sequence of struct wrappers over C memory, e.g. `d.warning`.
 
-    `arr[i]` is a wrapper sharing memory; `arr.field` is a NumPy view of that
-    field across all entries, e.g. `d.contact.dist` of shape (ncon,).
+    `arr[i]` is a wrapper sharing memory (a negative i counts from the end),
+    `arr[a:b:c]` a StructArray of those entries, and `arr.field` a NumPy view
+    of that field across the entries, e.g. `d.contact.dist` of shape (ncon,).
+    Two are equal when they hold equal structs in the same order.
     """
 
-    def __init__(self, wrapper, pointer, count, root):
+    __slots__ = ("_wrapper", "_pointer", "_count", "_root", "_step")
+    __hash__ = None  # type: ignore[assignment]  # equal by value, and mutable
+
+    def __init__(self, wrapper, pointer, count, root, step=1):
         self._wrapper, self._pointer, self._count, self._root = wrapper, pointer, count, root
+        self._step = step
+
+    def _span(self):
+        """(pointer to entry 0, number of entries, stride in structs), as of now."""
+        return self._pointer, self._count, self._step
 
     def __len__(self):
-        return self._count
+        return self._span()[1]
 
     def __getitem__(self, index):
+        pointer, count, step = self._span()
         if isinstance(index, slice):
-            return [self[i] for i in range(*index.indices(self._count))]
+            start, stop, stride = index.indices(count)
+            return StructArray(self._wrapper, pointer + start * step,
+                               len(range(start, stop, stride)), self._root, step * stride)
         try:
             index = int(index.__index__())
         except AttributeError:
             raise TypeError(f"indices must be integers or slices, not {type(index).__name__}") \
                 from None
-        if not -self._count <= index < self._count:
-            raise IndexError(f"index {index} out of range for {self._count} "
+        if not -count <= index < count:
+            raise IndexError(f"index {index} out of range for {count} "
                              f"{self._wrapper.__name__} entries")
-        return self._wrapper._wrap(self._pointer + (index % self._count), self._root)
+        return self._wrapper._wrap(pointer + (index % count) * step, self._root)
+
+    def __iter__(self):
+        pointer, count, step = self._span()
+        wrap, root = self._wrapper._wrap, self._root
+        for i in range(count):
+            yield wrap(pointer + i * step, root)
 
     def records(self):
         """All entries as one structured NumPy view (zero-copy)."""
-        return record_view(self._pointer, record_dtype(self._wrapper._ctype), self._count,
-                           self._root)
+        pointer, count, step = self._span()
+        dtype = record_dtype(self._wrapper._ctype)
+        if count == 0:
+            return np.zeros((0,), dtype)
+        low = min(0, (count - 1) * step)       # the lowest address, for a negative stride
+        whole = record_view(pointer + low, dtype, abs((count - 1) * step) + 1, self._root)
+        return whole if step == 1 else whole[::step]
+
+    def _name(self):
+        return f"_{self._wrapper.__name__}List"     # the official class name
 
     def __getattr__(self, name):
         if name.startswith("_"):
-            raise AttributeError(name)
+            raise AttributeError(name)     # not built yet (copy, pickle): no recursion
+        if name not in self._wrapper._fields:
+            raise AttributeError(f"{self._name()!r} object has no attribute {name!r}")
         try:
-            return self.records()[name]
-        except (ValueError, KeyError):
-            raise AttributeError(f"{self._wrapper.__name__} has no field {name!r}") from None
+            return self.records()[_cname_of(name)]
+        except (KeyError, ValueError):     # a member of an anonymous union (mjuiItem)
+            raise AttributeError(f"{name!r} of {self._name()} has no view across entries; "
+                                 f"read it from each entry") from None
+
+    def __setattr__(self, name, value):
+        if name.startswith("_"):
+            object.__setattr__(self, name, value)     # its own slots (copy.copy)
+            return
+        if name in self._wrapper._fields:
+            raise with_note(AttributeError(f"property of {self._name()!r} object has no setter"),
+                            f"write into the view instead: arr.{name}[:] = value")
+        raise AttributeError(f"{self._name()!r} object has no attribute {name!r}")
+
+    def __dir__(self):
+        return sorted(set(object.__dir__(self)) | set(self._wrapper._fields))
+
+    def __eq__(self, other):
+        if not isinstance(other, StructArray) or other._wrapper._cname != self._wrapper._cname:
+            return NotImplemented
+        return len(self) == len(other) and all(a == b for a, b in zip(self, other))
 
     def __repr__(self):
-        return f"<{len(self)} {self._wrapper.__name__} entries>"
+        if not self._wrapper._fields:
+            return f"<{self._name()} of {len(self)}>"
+        return _field_lines(self._name(), [(name, getattr(self, name))
+                                           for name in sorted(self._wrapper._fields)])
+
+
+class LiveStructArray(StructArray):
+    """A StructArray that reads its address and count from its owner on each use."""
+
+    __slots__ = ("_owner", "_field", "_counter")
+
+    def __init__(self, wrapper, owner, field, counter):
+        super().__init__(wrapper, None, 0, owner._root)
+        self._owner, self._field, self._counter = owner, field, counter
+
+    def _span(self):
+        owner = self._owner
+        return getattr(owner._ptr, self._field), self._counter(owner), 1
+
+
+def _cname_of(attr):
+    """The C field of a Python attribute (global_ -> global)."""
+    return attr[:-1] if attr.endswith("_") and keyword.iskeyword(attr[:-1]) else attr
+
+
+def _field_lines(title, items):
+    """The official bindings' repr: `<Title`, one `  name: value` line each, `>`."""
+    lines = [f"<{title}"]
+    for name, value in items:
+        text = repr(value)
+        if isinstance(value, Struct):
+            text = text.replace("\n", "\n  ")         # a nested struct, indented
+        lines.append(f"  {name}: {text}")
+    lines.append(">")
+    return "\n".join(lines)
+
+
+def _same(a, b):
+    """Field equality as the official bindings compare: arrays element by element."""
+    if isinstance(a, np.ndarray):
+        return isinstance(b, np.ndarray) and a.shape == b.shape and bool((a == b).all())
+    return a == b
 
 
 # ------------------------------------------------------------------ the base
 
-class Struct:
+class StructType(type):
+    """The metaclass of the struct classes.
+
+    `dir(cls)` also lists the fields that exist on instances only (the
+    `_eager` ones, such as MjData.qpos), as the official classes do: wrappers
+    that build properties from `dir(mujoco.MjData)` find them.  Attribute
+    access never passes through here, so the hot path pays nothing.
+    """
+
+    def __dir__(cls):
+        return sorted(set(super().__dir__()) | set(cls._eager))
+
+
+class Struct(metaclass=StructType):
     """Base of the generated struct classes: a pointer, and what keeps it alive.
 
     `_ptr` is the cdata pointer to the C struct; `_root` the cdata that owns
     the memory (the struct itself, or the mjModel/mjData it lives in).
     Assigning to an array or nested-struct field writes into C memory; an
     unknown attribute is an AttributeError rather than a silent new one.
+    Structs that hold pointers (MjModel, MjData, MjvScene, ...) compare by
+    identity; ValueStruct below compares the others by value.
     """
 
     _cname: str = ""              # C type name, e.g. 'mjOption'
     _ctype: object = None         # its cffi type
-    _repr_fields: tuple = ()      # fields shown by repr()
+    _fields: tuple = ()           # the fields' attribute names, in C order
+    _repr_fields: tuple = ()      # fields shown by the short repr
     _plain: bool = True           # no pointers inside: copy and pickle by bytes
-    _bounds: dict = {}            # scalar -> the scalar bounding it (ngeom <= maxgeom)
+    _bounds: dict = {}            # scalar -> the scalar or int bounding it (ngeom <= maxgeom)
     _eager: dict = {}             # fields built when wrapped (see above)
 
     def __init__(self):
@@ -305,6 +416,11 @@ class Struct:
         for name, field in self._eager.items():
             state[name] = field.build(self)
 
+    @property
+    def _address(self):
+        """The address of the C struct, as an int."""
+        return int(ffi.cast("uintptr_t", self._ptr))
+
     def __setattr__(self, name, value):
         field = type(self)._eager.get(name) or getattr(type(self), name, None)
         if isinstance(field, Nested):
@@ -322,7 +438,7 @@ class Struct:
         return sorted(set(super().__dir__()) | set(type(self)._eager))
 
     def _copy_from(self, other):
-        if type(other) is not type(self):
+        if not isinstance(other, Struct) or other._cname != self._cname:
             raise TypeError(f"expected {type(self).__name__}, got {type(other).__name__}")
         ffi.memmove(self._ptr, other._ptr, ffi.sizeof(self._ctype))
 
@@ -357,8 +473,31 @@ class Struct:
                 value = np.array2string(value, threshold=8, separator=", ")
             parts.append(f"{name}={value}")
         return f"<{type(self).__name__} {' '.join(parts)}>" if parts else \
-            f"<{type(self).__name__} at {hex(int(ffi.cast('uintptr_t', self._ptr)))}>"
+            f"<{type(self).__name__} at {hex(self._address)}>"
 
+
+class ValueStruct(Struct):
+    """A struct of values only (MjOption, MjContact, MjvCamera, ...).
+
+    Equal to another of its type when every field is equal (arrays element by
+    element, nested structs recursively), as in the official bindings; hence
+    not hashable, its fields being mutable.  Its repr lists every field: the
+    others sorted by name, then the nested structs.
+    """
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __eq__(self, other):
+        if not isinstance(other, Struct) or other._cname != self._cname:
+            return NotImplemented
+        return all(_same(getattr(self, name), getattr(other, name)) for name in self._fields)
+
+    def __repr__(self):
+        items = [(name, getattr(self, name)) for name in self._fields]
+        flat = sorted((item for item in items if not isinstance(item[1], Struct)),
+                      key=lambda item: item[0])
+        return _field_lines(type(self).__name__,
+                            flat + [item for item in items if isinstance(item[1], Struct)])
 
 
 # ------------------------------------------------- field factories for codegen
@@ -372,19 +511,42 @@ def struct_type(cname):
     return ctype
 
 
-def scalar(name, doc, readonly=False):
-    """A property reading and writing one scalar field of the C struct."""
+def scalar(name, doc, readonly=False, boolean=False, mirror=None):
+    """A property reading and writing one scalar field of the C struct.
+
+    A `boolean` field takes any integer, as True or False.  Writing a field
+    with a `mirror` also writes 1 or 0 to that one (mjModel.flg_gravcomp sets
+    ngravcomp, as the official bindings do).  `_bounds` limits the values.
+    """
     def set_value(self, value):
         limit = self._bounds.get(name)
-        if limit is not None and not 0 <= operator.index(value) <= getattr(self._ptr, limit):
-            raise ValueError(f"{type(self).__name__}.{name} must be within 0..{limit} "
-                             f"({getattr(self._ptr, limit)}), not {value}")
+        if limit is not None:
+            _check_bound(self, name, value, limit)
+        if boolean and not isinstance(value, bool):
+            value = _as_bool(self, name, value)
         try:
             setattr(self._ptr, name, value)
         except (TypeError, OverflowError) as exc:
             raise type(exc)(f"{type(self).__name__}.{name}: {exc}") from None
+        if mirror is not None:
+            setattr(self._ptr, mirror, 1 if value else 0)
     return property(operator.attrgetter("_ptr." + name), None if readonly else set_value,
                     doc=doc)
+
+
+def _check_bound(self, name, value, limit):
+    high = limit if isinstance(limit, int) else getattr(self._ptr, limit)
+    if not 0 <= operator.index(value) <= high:
+        raise ValueError(f"{type(self).__name__}.{name} must be within 0..{limit} ({high}), "
+                         f"not {value}")
+
+
+def _as_bool(self, name, value):
+    try:
+        return bool(operator.index(value))
+    except TypeError:
+        raise TypeError(f"{type(self).__name__}.{name} takes a bool or an int, "
+                        f"not {type(value).__name__}") from None
 
 
 def text(name, size, doc):
@@ -403,17 +565,39 @@ def text(name, size, doc):
     return property(get_value, set_value, doc=doc)
 
 
-def chars(name, count, doc):
-    """A char* field of known extent (mjModel.names) as bytes, read-only."""
+def cstring(name, doc):
+    """A `const char *` field as a read-only str, None when NULL."""
     def get_value(self):
-        pointer, n = getattr(self._ptr, name), count(self)
-        return ffi.unpack(pointer, n) if n and pointer != ffi.NULL else b""
+        pointer = getattr(self._ptr, name)
+        return None if pointer == ffi.NULL else ffi.string(pointer).decode("utf-8", "replace")
     return property(get_value, doc=doc)
+
+
+class _Chars(_Cached):
+    """A char* field of known extent as bytes, read once (see chars)."""
+
+    def __init__(self, name, count, doc):
+        self.name, self.count, self.__doc__ = name, count, doc
+
+    def build(self, obj):
+        pointer, n = getattr(obj._ptr, self.name), self.count(obj)
+        return ffi.unpack(pointer, n) if n and pointer != ffi.NULL else b""
+
+
+def chars(name, count, doc):
+    """A char* field of known extent (mjModel.names) as bytes, read once: the
+    names of a compiled model never change, and `m.names is m.names`."""
+    return _Chars(name, count, doc)
 
 
 def pointer(name, doc):
     """A field shown as its raw cdata (pointers of unknown extent, callbacks)."""
     return property(operator.attrgetter("_ptr." + name), doc=doc)
+
+
+def total(pointer, count):
+    """The sum of `count` ints at `pointer` (extents such as 9*sum(flexfacenum))."""
+    return sum(pointer[0:count]) if count > 0 and pointer != ffi.NULL else 0
 
 
 # ------------------------------------------------------- argument checking

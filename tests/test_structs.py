@@ -218,7 +218,7 @@ def test_constructors():
     with pytest.raises(TypeError, match="model must be MjModel"):
         mjcffi.MjData(mjcffi.MjOption())
     scene = mjcffi.MjvScene(m, maxgeom=50)
-    assert scene.maxgeom == 50 and len(scene.geoms) == 0
+    assert scene.maxgeom == 50 and len(scene.geoms) == 50 and scene.ngeom == 0
     assert mjcffi.MjvScene().maxgeom == 0
 
 
@@ -227,7 +227,7 @@ def test_every_struct_class_builds_reprs_and_copies():
     for name in structs.MODULES:
         cls = getattr(structs, name)          # the generated classes themselves
         try:
-            obj = cls()
+            obj = cls(0, 0, 0, 0) if name == "MjrRect" else cls()
         except TypeError as exc:
             assert "no constructor" in str(exc) or "." in cls._cname, name
             continue

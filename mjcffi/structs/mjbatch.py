@@ -2,17 +2,17 @@
 """The structs of MuJoCo's mjbatch.h, as thin classes over C memory."""
 
 from .._library import ffi, lib
-from .._views import Struct, pointer, scalar, struct_type
+from .._views import Struct, ValueStruct, cstring, pointer, scalar, struct_type
 
 __all__ = ['MjBatchConfig', 'MjBatchRecord']
 
 
-class MjBatchConfig(Struct):
+class MjBatchConfig(ValueStruct):
     """mjBatchConfig: parameters of mjb_makeBatch."""
 
     _cname = 'mjBatchConfig'
     _ctype = struct_type('mjBatchConfig')
-    _repr_fields = ('nthread', 'persistent')
+    _fields = ('nthread', 'persistent')
 
     def __init__(self):
         """A new mjBatchConfig, initialized by mjb_defaultConfig."""
@@ -21,7 +21,7 @@ class MjBatchConfig(Struct):
         self._init_root(root)
 
     nthread: int = scalar('nthread', "threads including the caller's; <= 0: one per logical CPU")
-    persistent: bool = scalar('persistent', 'one mjData per simulation instead of one per thread')
+    persistent: bool = scalar('persistent', 'one mjData per simulation instead of one per thread', boolean=True)
 
 
 class MjBatchRecord(Struct):
@@ -29,9 +29,10 @@ class MjBatchRecord(Struct):
 
     _cname = 'mjBatchRecord'
     _ctype = struct_type('mjBatchRecord')
+    _fields = ('field', 'spec', 'buf')
     _repr_fields = ('spec',)
     _plain = False
 
-    field = pointer('field', 'mjData field (as for mjb_output), NULL: record a state')
+    field: str = cstring('field', 'mjData field (as for mjb_output), NULL: record a state')
     spec: int = scalar('spec', 'mjtState bits of the recorded state')
     buf = pointer('buf', "output (n x nstep x size), of the field's type")

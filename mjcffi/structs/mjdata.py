@@ -3,18 +3,18 @@
 
 from numpy import ndarray
 
-from .._views import (Array, DynamicArray, FixedArray, FixedRecords, Records, Struct, eager,
-                      pointer, scalar, struct_type)
+from .._views import (Array, DynamicArray, FixedArray, FixedRecords, Records, Struct, ValueStruct,
+                      eager, pointer, scalar, struct_type)
 
 __all__ = ['MjPreContact', 'MjContact', 'MjWarningStat', 'MjTimerStat', 'MjSolverStat']
 
 
-class MjPreContact(Struct):
+class MjPreContact(ValueStruct):
     """mjPreContact: contact parameters set by narrowphase collision functions."""
 
     _cname = 'mjPreContact'
     _ctype = struct_type('mjPreContact')
-    _repr_fields = ('dist', 'pos', 'normal', 'tangent')
+    _fields = ('dist', 'pos', 'normal', 'tangent')
 
     dist: float = scalar('dist', '')
     pos = FixedArray('pos', 'mjtNum', lambda s: (3,), '')
@@ -22,12 +22,12 @@ class MjPreContact(Struct):
     tangent = FixedArray('tangent', 'mjtNum', lambda s: (3,), 'first tangent direction')
 
 
-class MjContact(Struct):
+class MjContact(ValueStruct):
     """mjContact: result of collision detection functions."""
 
     _cname = 'mjContact'
     _ctype = struct_type('mjContact')
-    _repr_fields = ('dist', 'pos', 'frame', 'includemargin', 'friction', 'solref', 'solreffriction', 'solimp', 'adhesion', 'surfacevel', 'mu', 'dim')
+    _fields = ('dist', 'pos', 'frame', 'includemargin', 'friction', 'solref', 'solreffriction', 'solimp', 'adhesion', 'surfacevel', 'mu', 'H', 'dim', 'geom1', 'geom2', 'geom', 'flex', 'elem', 'vert', 'exclude', 'efc_address')
 
     dist: float = scalar('dist', 'distance between nearest points; neg: penetration')
     pos = FixedArray('pos', 'mjtNum', lambda s: (3,), 'position of contact point: midpoint between geoms')
@@ -52,34 +52,34 @@ class MjContact(Struct):
     efc_address: int = scalar('efc_address', 'address in efc; -1: not included')
 
 
-class MjWarningStat(Struct):
+class MjWarningStat(ValueStruct):
     """mjWarningStat: warning statistics."""
 
     _cname = 'mjWarningStat'
     _ctype = struct_type('mjWarningStat')
-    _repr_fields = ('lastinfo', 'number')
+    _fields = ('lastinfo', 'number')
 
     lastinfo: int = scalar('lastinfo', 'info from last warning')
     number: int = scalar('number', 'how many times was warning raised')
 
 
-class MjTimerStat(Struct):
+class MjTimerStat(ValueStruct):
     """mjTimerStat: timer statistics."""
 
     _cname = 'mjTimerStat'
     _ctype = struct_type('mjTimerStat')
-    _repr_fields = ('duration', 'number')
+    _fields = ('duration', 'number')
 
     duration: float = scalar('duration', 'cumulative duration')
     number: int = scalar('number', 'how many times was timer called')
 
 
-class MjSolverStat(Struct):
+class MjSolverStat(ValueStruct):
     """mjSolverStat: per-iteration solver statistics."""
 
     _cname = 'mjSolverStat'
     _ctype = struct_type('mjSolverStat')
-    _repr_fields = ('improvement', 'gradient', 'lineslope', 'nactive', 'nchange', 'neval', 'nupdate')
+    _fields = ('improvement', 'gradient', 'lineslope', 'nactive', 'nchange', 'neval', 'nupdate')
 
     improvement: float = scalar('improvement', 'cost reduction, scaled by 1/trace(M)')
     gradient: float = scalar('gradient', 'gradient norm (primal only, scaled)')
@@ -95,8 +95,10 @@ class MjData(Struct):
 
     _cname = 'mjData'
     _ctype = struct_type('mjData')
+    _fields = ('narena', 'nbuffer', 'nplugin', 'pstack', 'pbase', 'parena', 'threadpool', 'threadlock', 'maxuse_stack', 'maxuse_arena', 'maxuse_con', 'maxuse_efc', 'solver', 'solver_niter', 'solver_nnz', 'solver_fwdinv', 'warning', 'timer', 'ncon', 'ne', 'nf', 'nl', 'nefc', 'nJ', 'efm_active', 'nefmK', 'nefmcon', 'nefmT', 'nefmA', 'nefmdof', 'nefmL', 'nY', 'nA', 'nisland', 'nidof', 'ntree_awake', 'nbody_awake', 'nparent_awake', 'nv_awake', 'flg_energypos', 'flg_energyvel', 'flg_subtreevel', 'flg_rnepost', 'time', 'energy', 'buffer', 'arena', 'qpos', 'qvel', 'act', 'history', 'plastic', 'qacc_warmstart', 'plugin_state', 'ctrl', 'qfrc_applied', 'xfrc_applied', 'eq_active', 'mocap_pos', 'mocap_quat', 'qacc', 'act_dot', 'userdata', 'sensordata', 'tree_asleep', 'plugin', 'plugin_data', 'xpos', 'xquat', 'xmat', 'xipos', 'xiquat', 'ximat', 'xanchor', 'xaxis', 'geom_xpos', 'geom_xquat', 'geom_xmat', 'site_xpos', 'site_xquat', 'site_xmat', 'cam_xpos', 'cam_xmat', 'light_xpos', 'light_xdir', 'subtree_com', 'cdof', 'cinert', 'flexvert_xpos', 'flexelem_aabb', 'flexelem_krot', 'flex_hessian_valid', 'flexvert_hessian', 'flexedge_hessian', 'flexedge_J', 'flexedge_length', 'bvh_aabb_dyn', 'flexvert_lambda', 'flexvert_conage', 'ten_wrapadr', 'ten_wrapnum', 'ten_J', 'ten_length', 'wrap_obj', 'wrap_xpos', 'actuator_length', 'moment_rownnz', 'moment_rowadr', 'moment_colind', 'actuator_moment', 'crb', 'M', 'qLD', 'qLDiagInv', 'bvh_active', 'tree_awake', 'body_awake', 'body_awake_ind', 'parent_awake_ind', 'dof_awake_ind', 'flexedge_velocity', 'ten_velocity', 'actuator_velocity', 'cvel', 'cdof_dot', 'qfrc_bias', 'qfrc_spring', 'qfrc_damper', 'qfrc_gravcomp', 'qfrc_fluid', 'qfrc_adhesion', 'qfrc_passive', 'subtree_linvel', 'subtree_angmom', 'qH', 'qHDiagInv', 'qDeriv', 'qLU', 'actuator_force', 'qfrc_actuator', 'qfrc_smooth', 'qacc_smooth', 'qfrc_constraint', 'qfrc_inverse', 'cacc', 'cfrc_int', 'cfrc_ext', 'contact', 'efc_type', 'efc_id', 'efc_J_rownnz', 'efc_J_rowadr', 'efc_J_rowsuper', 'efc_J_colind', 'efc_J', 'efc_pos', 'efc_margin', 'efc_frictionloss', 'efc_diagA', 'efc_KBIP', 'efc_D', 'efc_R', 'tendon_efcadr', 'tree_island', 'island_ntree', 'island_itreeadr', 'map_itree2tree', 'dof_island', 'island_nv', 'island_idofadr', 'island_dofadr', 'map_dof2idof', 'map_idof2dof', 'ifrc_smooth', 'iacc_smooth', 'iacc', 'efc_island', 'island_ne', 'island_nf', 'island_nefc', 'island_iefcadr', 'map_efc2iefc', 'map_iefc2efc', 'iefc_type', 'iefc_id', 'iefc_frictionloss', 'iefc_D', 'iefc_R', 'efc_Y_rownnz', 'efc_Y_rowadr', 'efc_Y_colind', 'efc_Y', 'efc_AR_rownnz', 'efc_AR_rowadr', 'efc_AR_colind', 'efc_AR', 'efc_vel', 'efc_aref', 'efm_c', 'efm_diag', 'efm_ck', 'efm_sdiag', 'efm_fluid', 'efm_tid', 'efm_ts', 'efm_tk', 'efm_aid', 'efm_as', 'efm_ak', 'efm_ca', 'efm_K_rownnz', 'efm_K_rowadr', 'efm_K_colind', 'efm_K_val', 'efm_dofid', 'efm_con_ind', 'efm_con_val', 'efm_L', 'efc_b', 'iefc_aref', 'iefc_state', 'iefc_force', 'efc_state', 'efc_force', 'ifrc_constraint', 'signature')
     _repr_fields = ('time', 'ncon', 'nefc')
     _plain = False
+    _bounds = {'pstack': 'narena', 'pbase': 'narena'}
 
     def __init__(self, *args, **kwargs):
         raise TypeError('MjData has no constructor: MuJoCo creates it')
@@ -104,15 +106,15 @@ class MjData(Struct):
     narena: int = scalar('narena', 'size of the arena in bytes (inclusive of the stack)', readonly=True)
     nbuffer: int = scalar('nbuffer', 'size of main buffer in bytes', readonly=True)
     nplugin: int = scalar('nplugin', 'number of plugin instances', readonly=True)
-    pstack: int = scalar('pstack', 'first available byte in stack (mutable)', readonly=True)
-    pbase: int = scalar('pbase', 'value of pstack when mj_markStack was last called (mutable)', readonly=True)
+    pstack: int = scalar('pstack', 'first available byte in stack (mutable)')
+    pbase: int = scalar('pbase', 'value of pstack when mj_markStack was last called (mutable)')
     parena: int = scalar('parena', 'first available byte in arena', readonly=True)
     threadpool: int = scalar('threadpool', 'thread pool pointer', readonly=True)
-    threadlock: bool = scalar('threadlock', 'disable stack freeing during threaded execution', readonly=True)
-    maxuse_stack: int = scalar('maxuse_stack', 'maximum stack allocation in bytes (mutable)', readonly=True)
-    maxuse_arena: int = scalar('maxuse_arena', 'maximum arena allocation in bytes', readonly=True)
-    maxuse_con: int = scalar('maxuse_con', 'maximum number of contacts', readonly=True)
-    maxuse_efc: int = scalar('maxuse_efc', 'maximum number of scalar constraints', readonly=True)
+    threadlock: bool = scalar('threadlock', 'disable stack freeing during threaded execution', readonly=True, boolean=True)
+    maxuse_stack: int = scalar('maxuse_stack', 'maximum stack allocation in bytes (mutable)')
+    maxuse_arena: int = scalar('maxuse_arena', 'maximum arena allocation in bytes')
+    maxuse_con: int = scalar('maxuse_con', 'maximum number of contacts')
+    maxuse_efc: int = scalar('maxuse_efc', 'maximum number of scalar constraints')
     solver = FixedRecords('solver', lambda: MjSolverStat, 4000, 'solver statistics per island, per iteration')
     solver_niter = FixedArray('solver_niter', 'int', lambda s: (20,), 'number of solver iterations, per island')
     solver_nnz = FixedArray('solver_nnz', 'int', lambda s: (20,), 'number of nonzeros in solver matrix, per island')
@@ -140,10 +142,10 @@ class MjData(Struct):
     nbody_awake: int = scalar('nbody_awake', 'number of awake dynamic and static bodies', readonly=True)
     nparent_awake: int = scalar('nparent_awake', 'number of bodies with awake parents', readonly=True)
     nv_awake: int = scalar('nv_awake', 'number of awake dofs', readonly=True)
-    flg_energypos: bool = scalar('flg_energypos', 'has mj_energyPos been called', readonly=True)
-    flg_energyvel: bool = scalar('flg_energyvel', 'has mj_energyVel been called', readonly=True)
-    flg_subtreevel: bool = scalar('flg_subtreevel', 'has mj_subtreeVel been called', readonly=True)
-    flg_rnepost: bool = scalar('flg_rnepost', 'has mj_rnePostConstraint been called', readonly=True)
+    flg_energypos: bool = scalar('flg_energypos', 'has mj_energyPos been called', boolean=True)
+    flg_energyvel: bool = scalar('flg_energyvel', 'has mj_energyVel been called', boolean=True)
+    flg_subtreevel: bool = scalar('flg_subtreevel', 'has mj_subtreeVel been called', boolean=True)
+    flg_rnepost: bool = scalar('flg_rnepost', 'has mj_rnePostConstraint been called', boolean=True)
     time: float = scalar('time', 'simulation time')
     energy = FixedArray('energy', 'mjtNum', lambda s: (2,), 'potential, kinetic energy')
     buffer = pointer('buffer', 'main buffer; all pointers point in it')
@@ -263,12 +265,12 @@ class MjData(Struct):
     efc_KBIP = DynamicArray('efc_KBIP', 'mjtNum', lambda s: (s._ptr.nefc, 4,), "stiffness, damping, impedance, imp'")
     efc_D = DynamicArray('efc_D', 'mjtNum', lambda s: (s._ptr.nefc,), 'constraint mass')
     efc_R = DynamicArray('efc_R', 'mjtNum', lambda s: (s._ptr.nefc,), 'inverse constraint mass')
-    tendon_efcadr = DynamicArray('tendon_efcadr', 'int', lambda s: (s._model._ptr.ntendon,), 'first efc address involving tendon; -1: none')
-    tree_island = DynamicArray('tree_island', 'int', lambda s: (s._model._ptr.ntree,), 'island id of this tree; -1: none')
+    tendon_efcadr = DynamicArray('tendon_efcadr', 'int', lambda s: (s._model._ptr.ntendon,), 'first efc address involving tendon; -1: none', fill=-1)
+    tree_island = DynamicArray('tree_island', 'int', lambda s: (s._model._ptr.ntree,), 'island id of this tree; -1: none', fill=-1)
     island_ntree = DynamicArray('island_ntree', 'int', lambda s: (s._ptr.nisland,), 'number of trees in this island')
     island_itreeadr = DynamicArray('island_itreeadr', 'int', lambda s: (s._ptr.nisland,), 'island start address in itree vector')
     map_itree2tree = DynamicArray('map_itree2tree', 'int', lambda s: (s._model._ptr.ntree,), 'map from itree to tree')
-    dof_island = DynamicArray('dof_island', 'int', lambda s: (s._model._ptr.nv,), 'island id of this dof; -1: none')
+    dof_island = DynamicArray('dof_island', 'int', lambda s: (s._model._ptr.nv,), 'island id of this dof; -1: none', fill=-1)
     island_nv = DynamicArray('island_nv', 'int', lambda s: (s._ptr.nisland,), 'number of dofs in this island')
     island_idofadr = DynamicArray('island_idofadr', 'int', lambda s: (s._ptr.nisland,), 'island start address in idof vector')
     island_dofadr = DynamicArray('island_dofadr', 'int', lambda s: (s._ptr.nisland,), 'island start address in dof vector')

@@ -2,17 +2,18 @@
 """The structs of MuJoCo's mjmodel.h, as thin classes over C memory."""
 
 from .._library import ffi, lib
-from .._views import Array, FixedArray, Nested, Struct, chars, pointer, scalar, struct_type
+from .._views import (Array, FixedArray, Nested, Struct, ValueStruct, chars, pointer, scalar,
+                      struct_type)
 
 __all__ = ['MjLROpt', 'MjCache', 'MjVFS', 'MjOption', 'MjVisual', 'MjVisualGlobal', 'MjVisualQuality', 'MjVisualHeadlight', 'MjVisualMap', 'MjVisualScale', 'MjVisualRgba', 'MjStatistic']
 
 
-class MjLROpt(Struct):
+class MjLROpt(ValueStruct):
     """mjLROpt: options for mj_setLengthRange()."""
 
     _cname = 'mjLROpt'
     _ctype = struct_type('mjLROpt')
-    _repr_fields = ('mode', 'useexisting', 'uselimit', 'accel', 'maxforce', 'timeconst', 'timestep', 'inttotal', 'interval', 'tolrange')
+    _fields = ('mode', 'useexisting', 'uselimit', 'accel', 'maxforce', 'timeconst', 'timestep', 'inttotal', 'interval', 'tolrange')
 
     def __init__(self):
         """A new mjLROpt, initialized by mj_defaultLROpt."""
@@ -24,7 +25,7 @@ class MjLROpt(Struct):
     useexisting: int = scalar('useexisting', 'use existing length range if available')
     uselimit: int = scalar('uselimit', 'use joint and tendon limits if available')
     accel: float = scalar('accel', 'target acceleration used to compute force')
-    maxforce: float = scalar('maxforce', 'maximum force; 0: no limit', readonly=True)
+    maxforce: float = scalar('maxforce', 'maximum force; 0: no limit')
     timeconst: float = scalar('timeconst', 'time constant for velocity reduction; min 0.01')
     timestep: float = scalar('timestep', 'simulation timestep; 0: use mjOption.timestep')
     inttotal: float = scalar('inttotal', 'total simulation time interval')
@@ -37,6 +38,7 @@ class MjCache(Struct):
 
     _cname = 'mjCache'
     _ctype = struct_type('mjCache')
+    _fields = ('impl_',)
     _repr_fields = ()
     _plain = False
 
@@ -51,6 +53,7 @@ class MjVFS(Struct):
 
     _cname = 'mjVFS'
     _ctype = struct_type('mjVFS')
+    _fields = ('impl_',)
     _repr_fields = ()
     _plain = False
 
@@ -64,12 +67,12 @@ class MjVFS(Struct):
     impl_ = pointer('impl_', 'internal pointer to VFS memory')
 
 
-class MjOption(Struct):
+class MjOption(ValueStruct):
     """mjOption: physics options."""
 
     _cname = 'mjOption'
     _ctype = struct_type('mjOption')
-    _repr_fields = ('timestep', 'impratio', 'tolerance', 'ls_tolerance', 'noslip_tolerance', 'ccd_tolerance', 'sleep_tolerance', 'gravity', 'wind', 'magnetic', 'density', 'viscosity')
+    _fields = ('timestep', 'impratio', 'tolerance', 'ls_tolerance', 'noslip_tolerance', 'ccd_tolerance', 'sleep_tolerance', 'gravity', 'wind', 'magnetic', 'density', 'viscosity', 'o_margin', 'o_solref', 'o_solimp', 'o_friction', 'integrator', 'cone', 'jacobian', 'solver', 'iterations', 'ls_iterations', 'noslip_iterations', 'ccd_iterations', 'disableflags', 'enableflags', 'disableactuator', 'sdf_initpoints', 'sdf_iterations')
 
     def __init__(self):
         """A new mjOption, initialized by mj_defaultOption."""
@@ -108,33 +111,12 @@ class MjOption(Struct):
     sdf_iterations: int = scalar('sdf_iterations', 'max number of iterations for gradient descent')
 
 
-class MjVisual(Struct):
-    """mjVisual: visualization options."""
-
-    _cname = 'mjVisual'
-    _ctype = struct_type('mjVisual')
-    _repr_fields = ()
-
-    def __init__(self):
-        """A new mjVisual, initialized by mj_defaultVisual."""
-        root = ffi.new('mjVisual *')
-        lib.mj_defaultVisual(root)
-        self._init_root(root)
-
-    global_ = Nested('global', lambda: MjVisualGlobal, '')
-    quality = Nested('quality', lambda: MjVisualQuality, '')
-    headlight = Nested('headlight', lambda: MjVisualHeadlight, '')
-    map = Nested('map', lambda: MjVisualMap, '')
-    scale = Nested('scale', lambda: MjVisualScale, '')
-    rgba = Nested('rgba', lambda: MjVisualRgba, '')
-
-
-class MjVisualGlobal(Struct):
+class MjVisualGlobal(ValueStruct):
     """mjVisual.global."""
 
     _cname = 'mjVisual.global'
     _ctype = struct_type('mjVisual.global')
-    _repr_fields = ('cameraid', 'orthographic', 'fovy', 'ipd', 'azimuth', 'elevation', 'linewidth', 'glow', 'realtime', 'offwidth', 'offheight', 'ellipsoidinertia')
+    _fields = ('cameraid', 'orthographic', 'fovy', 'ipd', 'azimuth', 'elevation', 'linewidth', 'glow', 'realtime', 'offwidth', 'offheight', 'ellipsoidinertia', 'bvactive')
 
     cameraid: int = scalar('cameraid', 'initial camera id (-1: free)')
     orthographic: int = scalar('orthographic', 'is the free camera orthographic (0: no, 1: yes)')
@@ -151,12 +133,12 @@ class MjVisualGlobal(Struct):
     bvactive: int = scalar('bvactive', 'visualize active bounding volumes (0: no, 1: yes)')
 
 
-class MjVisualQuality(Struct):
+class MjVisualQuality(ValueStruct):
     """mjVisual.quality."""
 
     _cname = 'mjVisual.quality'
     _ctype = struct_type('mjVisual.quality')
-    _repr_fields = ('shadowsize', 'offsamples', 'numslices', 'numstacks', 'numquads')
+    _fields = ('shadowsize', 'offsamples', 'numslices', 'numstacks', 'numquads')
 
     shadowsize: int = scalar('shadowsize', 'size of shadowmap texture')
     offsamples: int = scalar('offsamples', 'number of multisamples for offscreen rendering')
@@ -165,12 +147,12 @@ class MjVisualQuality(Struct):
     numquads: int = scalar('numquads', 'number of quads for box rendering')
 
 
-class MjVisualHeadlight(Struct):
+class MjVisualHeadlight(ValueStruct):
     """mjVisual.headlight."""
 
     _cname = 'mjVisual.headlight'
     _ctype = struct_type('mjVisual.headlight')
-    _repr_fields = ('ambient', 'diffuse', 'specular', 'active')
+    _fields = ('ambient', 'diffuse', 'specular', 'active')
 
     ambient = FixedArray('ambient', 'float', lambda s: (3,), 'ambient rgb (alpha=1)')
     diffuse = FixedArray('diffuse', 'float', lambda s: (3,), 'diffuse rgb (alpha=1)')
@@ -178,12 +160,12 @@ class MjVisualHeadlight(Struct):
     active: int = scalar('active', 'is headlight active (0: no, 1: yes, 2: auto)')
 
 
-class MjVisualMap(Struct):
+class MjVisualMap(ValueStruct):
     """mjVisual.map."""
 
     _cname = 'mjVisual.map'
     _ctype = struct_type('mjVisual.map')
-    _repr_fields = ('stiffness', 'stiffnessrot', 'force', 'torque', 'alpha', 'fogstart', 'fogend', 'znear', 'zfar', 'haze', 'shadowclip', 'shadowscale')
+    _fields = ('stiffness', 'stiffnessrot', 'force', 'torque', 'alpha', 'fogstart', 'fogend', 'znear', 'zfar', 'haze', 'shadowclip', 'shadowscale', 'actuatortendon')
 
     stiffness: float = scalar('stiffness', 'mouse perturbation stiffness (space->force)')
     stiffnessrot: float = scalar('stiffnessrot', 'mouse perturbation stiffness (space->torque)')
@@ -200,12 +182,12 @@ class MjVisualMap(Struct):
     actuatortendon: float = scalar('actuatortendon', 'scale tendon width')
 
 
-class MjVisualScale(Struct):
+class MjVisualScale(ValueStruct):
     """mjVisual.scale."""
 
     _cname = 'mjVisual.scale'
     _ctype = struct_type('mjVisual.scale')
-    _repr_fields = ('forcewidth', 'contactwidth', 'contactheight', 'connect', 'com', 'camera', 'light', 'selectpoint', 'jointlength', 'jointwidth', 'actuatorlength', 'actuatorwidth')
+    _fields = ('forcewidth', 'contactwidth', 'contactheight', 'connect', 'com', 'camera', 'light', 'selectpoint', 'jointlength', 'jointwidth', 'actuatorlength', 'actuatorwidth', 'framelength', 'framewidth', 'constraint', 'slidercrank', 'frustum')
 
     forcewidth: float = scalar('forcewidth', 'width of force arrow')
     contactwidth: float = scalar('contactwidth', 'contact width')
@@ -226,12 +208,12 @@ class MjVisualScale(Struct):
     frustum: float = scalar('frustum', 'frustum zfar plane')
 
 
-class MjVisualRgba(Struct):
+class MjVisualRgba(ValueStruct):
     """mjVisual.rgba."""
 
     _cname = 'mjVisual.rgba'
     _ctype = struct_type('mjVisual.rgba')
-    _repr_fields = ('fog', 'haze', 'force', 'inertia', 'joint', 'actuator', 'actuatornegative', 'actuatorpositive', 'com', 'camera', 'light', 'selectpoint')
+    _fields = ('fog', 'haze', 'force', 'inertia', 'joint', 'actuator', 'actuatornegative', 'actuatorpositive', 'com', 'camera', 'light', 'selectpoint', 'connect', 'contactpoint', 'contactforce', 'contactfriction', 'contacttorque', 'contactgap', 'rangefinder', 'constraint', 'slidercrank', 'crankbroken', 'frustum', 'bv', 'bvactive')
 
     fog = FixedArray('fog', 'float', lambda s: (4,), 'fog')
     haze = FixedArray('haze', 'float', lambda s: (4,), 'haze')
@@ -260,12 +242,41 @@ class MjVisualRgba(Struct):
     bvactive = FixedArray('bvactive', 'float', lambda s: (4,), 'active bounding volume')
 
 
-class MjStatistic(Struct):
+class MjVisual(ValueStruct):
+    """mjVisual: visualization options."""
+
+    _cname = 'mjVisual'
+    _ctype = struct_type('mjVisual')
+    _fields = ('global_', 'quality', 'headlight', 'map', 'scale', 'rgba')
+
+    # the nested structs under their official names
+    Global = MjVisualGlobal
+    Quality = MjVisualQuality
+    Headlight = MjVisualHeadlight
+    Map = MjVisualMap
+    Scale = MjVisualScale
+    Rgba = MjVisualRgba
+
+    def __init__(self):
+        """A new mjVisual, initialized by mj_defaultVisual."""
+        root = ffi.new('mjVisual *')
+        lib.mj_defaultVisual(root)
+        self._init_root(root)
+
+    global_ = Nested('global', lambda: MjVisualGlobal, '')
+    quality = Nested('quality', lambda: MjVisualQuality, '')
+    headlight = Nested('headlight', lambda: MjVisualHeadlight, '')
+    map = Nested('map', lambda: MjVisualMap, '')
+    scale = Nested('scale', lambda: MjVisualScale, '')
+    rgba = Nested('rgba', lambda: MjVisualRgba, '')
+
+
+class MjStatistic(ValueStruct):
     """mjStatistic: model statistics (in qpos0)."""
 
     _cname = 'mjStatistic'
     _ctype = struct_type('mjStatistic')
-    _repr_fields = ('meaninertia', 'meanmass', 'meansize', 'extent', 'center')
+    _fields = ('meaninertia', 'meanmass', 'meansize', 'extent', 'center')
 
     meaninertia: float = scalar('meaninertia', 'mean diagonal inertia')
     meanmass: float = scalar('meanmass', 'mean body mass')
@@ -279,6 +290,7 @@ class MjModel(Struct):
 
     _cname = 'mjModel'
     _ctype = struct_type('mjModel')
+    _fields = ('nq', 'nv', 'nu', 'nactuator', 'nout', 'na', 'nbody', 'nbvh', 'nbvhstatic', 'nbvhdynamic', 'noct', 'njnt', 'ntree', 'nM', 'nB', 'nC', 'nD', 'ngeom', 'nsite', 'ncam', 'nlight', 'nflex', 'nflexnode', 'nflexvert', 'nflexedge', 'nflexelem', 'nflexelemdata', 'nflexstiffness', 'nflexbending', 'nefm0dof', 'nefm0L', 'nefmCvert', 'nflexelemedge', 'nflexshelldata', 'nflextexcoord', 'nJfe', 'nmesh', 'nmeshvert', 'nmeshnormal', 'nmeshtexcoord', 'nmeshface', 'nmeshgraph', 'nmeshpoly', 'nmeshpolyvert', 'nmeshpolymap', 'nskin', 'nskinvert', 'nskintexvert', 'nskinface', 'nskinbone', 'nskinbonevert', 'nhfield', 'nhfielddata', 'ntex', 'ntexdata', 'nmat', 'npair', 'nexclude', 'neq', 'ntendon', 'nJten', 'nwrap', 'nsensor', 'nnumeric', 'nnumericdata', 'ntext', 'ntextdata', 'ntuple', 'ntupledata', 'nkey', 'nmocap', 'nplugin', 'npluginattr', 'nuser_body', 'nuser_jnt', 'nuser_geom', 'nuser_site', 'nuser_cam', 'nuser_tendon', 'nuser_actuator', 'nuser_sensor', 'nnames', 'npaths', 'nplastic', 'nnames_map', 'nJmom', 'ngravcomp', 'nemax', 'njmax', 'nconmax', 'npolygonmax', 'nmeshdegmax', 'nuserdata', 'nsensordata', 'npluginstate', 'nhistory', 'narena', 'nbuffer', 'flg_gravcomp', 'flg_surfacevel', 'flg_adhesion', 'opt', 'vis', 'stat', 'buffer', 'qpos0', 'qpos_spring', 'body_parentid', 'body_rootid', 'body_weldid', 'body_mocapid', 'body_jntnum', 'body_jntadr', 'body_dofnum', 'body_dofadr', 'body_treeid', 'body_geomnum', 'body_geomadr', 'body_simple', 'body_sameframe', 'body_pos', 'body_quat', 'body_ipos', 'body_iquat', 'body_mass', 'body_subtreemass', 'body_inertia', 'body_invweight0', 'body_gravcomp', 'body_margin', 'body_user', 'body_plugin', 'body_contype', 'body_conaffinity', 'body_bvhadr', 'body_bvhnum', 'bvh_depth', 'bvh_child', 'bvh_nodeid', 'bvh_aabb', 'oct_depth', 'oct_child', 'oct_aabb', 'oct_coeff', 'jnt_type', 'jnt_qposadr', 'jnt_dofadr', 'jnt_bodyid', 'jnt_actuatorid', 'jnt_group', 'jnt_plasticadr', 'jnt_limited', 'jnt_actfrclimited', 'jnt_actgravcomp', 'jnt_solref', 'jnt_solimp', 'jnt_pos', 'jnt_axis', 'jnt_stiffness', 'jnt_stiffnesspoly', 'jnt_springyield', 'jnt_range', 'jnt_actfrcrange', 'jnt_margin', 'jnt_user', 'dof_bodyid', 'dof_jntid', 'dof_parentid', 'dof_treeid', 'dof_Madr', 'dof_simplenum', 'dof_solref', 'dof_solimp', 'dof_frictionloss', 'dof_armature', 'dof_damping', 'dof_dampingpoly', 'dof_invweight0', 'dof_M0', 'dof_length', 'tree_bodyadr', 'tree_bodynum', 'tree_dofadr', 'tree_dofnum', 'tree_sleep_policy', 'geom_type', 'geom_contype', 'geom_conaffinity', 'geom_condim', 'geom_bodyid', 'geom_dataid', 'geom_matid', 'geom_group', 'geom_priority', 'geom_plugin', 'geom_sameframe', 'geom_castshadow', 'geom_solmix', 'geom_solref', 'geom_solimp', 'geom_size', 'geom_aabb', 'geom_rbound', 'geom_pos', 'geom_quat', 'geom_friction', 'geom_margin', 'geom_gap', 'geom_surfacevel', 'geom_adhesion', 'geom_fluid', 'geom_user', 'geom_rgba', 'site_type', 'site_bodyid', 'site_dataid', 'site_matid', 'site_group', 'site_sameframe', 'site_size', 'site_pos', 'site_quat', 'site_user', 'site_rgba', 'cam_mode', 'cam_bodyid', 'cam_targetbodyid', 'cam_pos', 'cam_quat', 'cam_poscom0', 'cam_pos0', 'cam_mat0', 'cam_projection', 'cam_fovy', 'cam_ipd', 'cam_resolution', 'cam_output', 'cam_sensorsize', 'cam_intrinsic', 'cam_user', 'light_mode', 'light_bodyid', 'light_targetbodyid', 'light_type', 'light_texid', 'light_castshadow', 'light_bulbradius', 'light_intensity', 'light_range', 'light_active', 'light_pos', 'light_dir', 'light_poscom0', 'light_pos0', 'light_dir0', 'light_attenuation', 'light_cutoff', 'light_softness', 'light_exponent', 'light_ambient', 'light_diffuse', 'light_specular', 'flex_contype', 'flex_conaffinity', 'flex_condim', 'flex_priority', 'flex_solmix', 'flex_solref', 'flex_solimp', 'flex_friction', 'flex_margin', 'flex_gap', 'flex_selfcollide', 'flex_activelayers', 'flex_passive', 'flex_dim', 'flex_matid', 'flex_group', 'flex_interp', 'flex_cellnum', 'flex_nodeadr', 'flex_nodenum', 'flex_vertadr', 'flex_vertnum', 'flex_edgeadr', 'flex_edgenum', 'flex_elemadr', 'flex_elemnum', 'flex_elemdataadr', 'flex_stiffnessadr', 'flex_elemedgeadr', 'flex_bendingadr', 'flex_plasticadr', 'flex_plasticmode', 'flex_shellnum', 'flex_shelldataadr', 'flex_texcoordadr', 'flex_nodebodyid', 'flex_vertbodyid', 'flex_vertcell', 'flex_edge', 'flex_edgeflap', 'flex_elem', 'flex_elemtexcoord', 'flex_elemedge', 'flex_elemlayer', 'flex_shell', 'flex_vert', 'flex_vert0', 'flex_node', 'flex_node0', 'flexedge_length0', 'flexedge_invweight0', 'flex_radius', 'flex_size', 'flex_stiffness', 'flex_bending', 'efm0_dofid', 'efm0_L_rownnz', 'efm0_L_rowadr', 'efm0_L_colind', 'efm0_L', 'efmC_perm', 'flex_damping', 'flex_yield', 'flex_edgestiffness', 'flex_edgedamping', 'flex_edgeequality', 'flex_rigid', 'flexedge_rigid', 'flex_centered', 'flex_flatskin', 'flex_bvhadr', 'flex_bvhnum', 'flexedge_J_rownnz', 'flexedge_J_rowadr', 'flexedge_J_colind', 'flex_rgba', 'flex_texcoord', 'mesh_vertadr', 'mesh_vertnum', 'mesh_faceadr', 'mesh_facenum', 'mesh_bvhadr', 'mesh_bvhnum', 'mesh_octadr', 'mesh_octnum', 'mesh_normaladr', 'mesh_normalnum', 'mesh_texcoordadr', 'mesh_texcoordnum', 'mesh_graphadr', 'mesh_extrema', 'mesh_vert', 'mesh_normal', 'mesh_texcoord', 'mesh_face', 'mesh_facenormal', 'mesh_facetexcoord', 'mesh_graph', 'mesh_scale', 'mesh_pos', 'mesh_quat', 'mesh_pathadr', 'mesh_polynum', 'mesh_polyadr', 'mesh_polynormal', 'mesh_polyvertadr', 'mesh_polyvertnum', 'mesh_polyvert', 'mesh_polymapadr', 'mesh_polymapnum', 'mesh_polymap', 'skin_matid', 'skin_group', 'skin_rgba', 'skin_inflate', 'skin_vertadr', 'skin_vertnum', 'skin_texcoordadr', 'skin_faceadr', 'skin_facenum', 'skin_boneadr', 'skin_bonenum', 'skin_vert', 'skin_texcoord', 'skin_face', 'skin_bonevertadr', 'skin_bonevertnum', 'skin_bonebindpos', 'skin_bonebindquat', 'skin_bonebodyid', 'skin_bonevertid', 'skin_bonevertweight', 'skin_pathadr', 'hfield_size', 'hfield_nrow', 'hfield_ncol', 'hfield_adr', 'hfield_data', 'hfield_pathadr', 'tex_type', 'tex_colorspace', 'tex_height', 'tex_width', 'tex_nchannel', 'tex_adr', 'tex_data', 'tex_pathadr', 'tex_contenttypeadr', 'mat_texid', 'mat_texuniform', 'mat_texrepeat', 'mat_emission', 'mat_specular', 'mat_shininess', 'mat_reflectance', 'mat_metallic', 'mat_roughness', 'mat_rgba', 'pair_dim', 'pair_geom1', 'pair_geom2', 'pair_signature', 'pair_solref', 'pair_solreffriction', 'pair_solimp', 'pair_margin', 'pair_gap', 'pair_adhesion', 'pair_friction', 'exclude_signature', 'eq_type', 'eq_obj1id', 'eq_obj2id', 'eq_objtype', 'eq_active0', 'eq_solref', 'eq_solimp', 'eq_data', 'tendon_type', 'tendon_adr', 'tendon_num', 'tendon_matid', 'tendon_actuatorid', 'tendon_group', 'tendon_plasticadr', 'tendon_treenum', 'tendon_treeid', 'ten_J_rownnz', 'ten_J_rowadr', 'ten_J_colind', 'tendon_limited', 'tendon_actfrclimited', 'tendon_width', 'tendon_solref_lim', 'tendon_solimp_lim', 'tendon_solref_fri', 'tendon_solimp_fri', 'tendon_range', 'tendon_actfrcrange', 'tendon_margin', 'tendon_stiffness', 'tendon_stiffnesspoly', 'tendon_damping', 'tendon_dampingpoly', 'tendon_armature', 'tendon_frictionloss', 'tendon_lengthspring', 'tendon_springyield', 'tendon_length0', 'tendon_invweight0', 'tendon_user', 'tendon_rgba', 'wrap_type', 'wrap_objid', 'wrap_prm', 'actuator_trntype', 'actuator_dyntype', 'actuator_gaintype', 'actuator_biastype', 'actuator_ctrladr', 'actuator_ctrlnum', 'actuator_ctrlspec', 'actuator_outadr', 'actuator_outnum', 'actuator_actadr', 'actuator_actnum', 'actuator_trnid', 'actuator_cranklength', 'actuator_dynprm', 'actuator_gainprm', 'actuator_biasprm', 'actuator_actlimited', 'actuator_actrange', 'actuator_actearly', 'actuator_history', 'actuator_historyadr', 'actuator_delay', 'actuator_damping', 'actuator_dampingpoly', 'actuator_armature', 'actuator_group', 'actuator_user', 'actuator_plugin', 'actuator_forcelimited', 'actuator_forcerange', 'actuator_ctrllimited', 'actuator_ctrlrange', 'actuator_gear', 'actuator_acc0', 'actuator_length0', 'actuator_lengthrange', 'sensor_type', 'sensor_datatype', 'sensor_needstage', 'sensor_objtype', 'sensor_objid', 'sensor_reftype', 'sensor_refid', 'sensor_intprm', 'sensor_dim', 'sensor_adr', 'sensor_cutoff', 'sensor_noise', 'sensor_history', 'sensor_historyadr', 'sensor_delay', 'sensor_interval', 'sensor_user', 'sensor_plugin', 'plugin', 'plugin_stateadr', 'plugin_statenum', 'plugin_attr', 'plugin_attradr', 'numeric_adr', 'numeric_size', 'numeric_data', 'text_adr', 'text_size', 'text_data', 'tuple_adr', 'tuple_size', 'tuple_objtype', 'tuple_objid', 'tuple_objprm', 'key_time', 'key_qpos', 'key_qvel', 'key_act', 'key_mpos', 'key_mquat', 'key_ctrl', 'key_plastic', 'name_bodyadr', 'name_jntadr', 'name_geomadr', 'name_siteadr', 'name_camadr', 'name_lightadr', 'name_flexadr', 'name_meshadr', 'name_skinadr', 'name_hfieldadr', 'name_texadr', 'name_matadr', 'name_pairadr', 'name_excludeadr', 'name_eqadr', 'name_tendonadr', 'name_actuatoradr', 'name_sensoradr', 'name_numericadr', 'name_textadr', 'name_tupleadr', 'name_keyadr', 'name_pluginadr', 'names', 'names_map', 'paths', 'B_rownnz', 'B_rowadr', 'B_colind', 'M_rownnz', 'M_rowadr', 'M_colind', 'mapM2M', 'D_rownnz', 'D_rowadr', 'D_diag', 'D_colind', 'mapM2D', 'mapD2M', 'signature')
     _repr_fields = ('nq', 'nv', 'nu', 'na', 'nbody', 'njnt', 'ngeom', 'nsite', 'nsensor', 'nkey')
     _plain = False
 
@@ -383,9 +395,9 @@ class MjModel(Struct):
     nhistory: int = scalar('nhistory', 'number of mjtNums in history buffer', readonly=True)
     narena: int = scalar('narena', 'number of bytes in the mjData arena (inclusive of stack)', readonly=True)
     nbuffer: int = scalar('nbuffer', 'number of bytes in buffer', readonly=True)
-    flg_gravcomp: bool = scalar('flg_gravcomp', 'whether any body has nonzero gravcomp', readonly=True)
-    flg_surfacevel: bool = scalar('flg_surfacevel', 'whether any geom has nonzero surfacevel', readonly=True)
-    flg_adhesion: bool = scalar('flg_adhesion', 'whether any geom or pair has nonzero adhesion', readonly=True)
+    flg_gravcomp: bool = scalar('flg_gravcomp', 'whether any body has nonzero gravcomp', boolean=True, mirror='ngravcomp')
+    flg_surfacevel: bool = scalar('flg_surfacevel', 'whether any geom has nonzero surfacevel', boolean=True)
+    flg_adhesion: bool = scalar('flg_adhesion', 'whether any geom or pair has nonzero adhesion', boolean=True)
     opt = Nested('opt', lambda: MjOption, 'physics options')
     vis = Nested('vis', lambda: MjVisual, 'visualization options')
     stat = Nested('stat', lambda: MjStatistic, 'model statistics')
@@ -395,7 +407,7 @@ class MjModel(Struct):
     body_parentid = Array('body_parentid', 'int', lambda s: (s._ptr.nbody,), "id of body's parent")
     body_rootid = Array('body_rootid', 'int', lambda s: (s._ptr.nbody,), 'ancestor that is direct child of world')
     body_weldid = Array('body_weldid', 'int', lambda s: (s._ptr.nbody,), 'top dof-less ancestor; mocap: own root')
-    body_mocapid = Array('body_mocapid', 'int', lambda s: (s._ptr.nbody,), 'id of mocap data; -1: none')
+    body_mocapid = Array('body_mocapid', 'int', lambda s: (s._ptr.nbody,), 'id of mocap data; -1: none', fill=-1)
     body_jntnum = Array('body_jntnum', 'int', lambda s: (s._ptr.nbody,), 'number of joints for this body')
     body_jntadr = Array('body_jntadr', 'int', lambda s: (s._ptr.nbody,), 'start addr of joints; -1: no joints')
     body_dofnum = Array('body_dofnum', 'int', lambda s: (s._ptr.nbody,), 'number of motion degrees of freedom')
@@ -435,7 +447,7 @@ class MjModel(Struct):
     jnt_bodyid = Array('jnt_bodyid', 'int', lambda s: (s._ptr.njnt,), "id of joint's body")
     jnt_actuatorid = Array('jnt_actuatorid', 'int', lambda s: (s._ptr.njnt,), 'actuator contributing damping / armature')
     jnt_group = Array('jnt_group', 'int', lambda s: (s._ptr.njnt,), 'group for visibility')
-    jnt_plasticadr = Array('jnt_plasticadr', 'int', lambda s: (s._ptr.njnt,), 'start addr in plastic state (-1: none)')
+    jnt_plasticadr = Array('jnt_plasticadr', 'int', lambda s: (s._ptr.njnt,), 'start addr in plastic state (-1: none)', fill=-1)
     jnt_limited = Array('jnt_limited', 'mjtBool', lambda s: (s._ptr.njnt,), 'does joint have limits')
     jnt_actfrclimited = Array('jnt_actfrclimited', 'mjtBool', lambda s: (s._ptr.njnt,), 'does joint have actuator force limits')
     jnt_actgravcomp = Array('jnt_actgravcomp', 'mjtBool', lambda s: (s._ptr.njnt,), 'is gravcomp force applied via actuators')
@@ -452,7 +464,7 @@ class MjModel(Struct):
     jnt_user = Array('jnt_user', 'mjtNum', lambda s: (s._ptr.njnt, s._ptr.nuser_jnt,), 'user data')
     dof_bodyid = Array('dof_bodyid', 'int', lambda s: (s._ptr.nv,), "id of dof's body")
     dof_jntid = Array('dof_jntid', 'int', lambda s: (s._ptr.nv,), "id of dof's joint")
-    dof_parentid = Array('dof_parentid', 'int', lambda s: (s._ptr.nv,), "id of dof's parent; -1: none")
+    dof_parentid = Array('dof_parentid', 'int', lambda s: (s._ptr.nv,), "id of dof's parent; -1: none", fill=-1)
     dof_treeid = Array('dof_treeid', 'int', lambda s: (s._ptr.nv,), "id of dof's kinematic tree")
     dof_Madr = Array('dof_Madr', 'int', lambda s: (s._ptr.nv,), 'dof address in M-diagonal')
     dof_simplenum = Array('dof_simplenum', 'int', lambda s: (s._ptr.nv,), 'number of consecutive simple dofs')
@@ -475,8 +487,8 @@ class MjModel(Struct):
     geom_conaffinity = Array('geom_conaffinity', 'int', lambda s: (s._ptr.ngeom,), 'geom contact affinity')
     geom_condim = Array('geom_condim', 'int', lambda s: (s._ptr.ngeom,), 'contact dimensionality (1, 3, 4, 6)')
     geom_bodyid = Array('geom_bodyid', 'int', lambda s: (s._ptr.ngeom,), "id of geom's body")
-    geom_dataid = Array('geom_dataid', 'int', lambda s: (s._ptr.ngeom,), "id of geom's mesh/hfield; -1: none")
-    geom_matid = Array('geom_matid', 'int', lambda s: (s._ptr.ngeom,), 'material id for rendering; -1: none')
+    geom_dataid = Array('geom_dataid', 'int', lambda s: (s._ptr.ngeom,), "id of geom's mesh/hfield; -1: none", fill=-1)
+    geom_matid = Array('geom_matid', 'int', lambda s: (s._ptr.ngeom,), 'material id for rendering; -1: none', fill=-1)
     geom_group = Array('geom_group', 'int', lambda s: (s._ptr.ngeom,), 'group for visibility')
     geom_priority = Array('geom_priority', 'int', lambda s: (s._ptr.ngeom,), 'geom contact priority')
     geom_plugin = Array('geom_plugin', 'int', lambda s: (s._ptr.ngeom,), 'plugin instance id; -1: not in use')
@@ -500,8 +512,8 @@ class MjModel(Struct):
     geom_rgba = Array('geom_rgba', 'float', lambda s: (s._ptr.ngeom, 4,), 'rgba when material is omitted')
     site_type = Array('site_type', 'int', lambda s: (s._ptr.nsite,), 'geom type for rendering (mjtGeom)')
     site_bodyid = Array('site_bodyid', 'int', lambda s: (s._ptr.nsite,), "id of site's body")
-    site_dataid = Array('site_dataid', 'int', lambda s: (s._ptr.nsite,), "id of site's mesh; -1: none")
-    site_matid = Array('site_matid', 'int', lambda s: (s._ptr.nsite,), 'material id for rendering; -1: none')
+    site_dataid = Array('site_dataid', 'int', lambda s: (s._ptr.nsite,), "id of site's mesh; -1: none", fill=-1)
+    site_matid = Array('site_matid', 'int', lambda s: (s._ptr.nsite,), 'material id for rendering; -1: none', fill=-1)
     site_group = Array('site_group', 'int', lambda s: (s._ptr.nsite,), 'group for visibility')
     site_sameframe = Array('site_sameframe', 'mjtByte', lambda s: (s._ptr.nsite,), 'same frame as body (mjtSameframe)')
     site_size = Array('site_size', 'mjtNum', lambda s: (s._ptr.nsite, 3,), 'geom size for rendering')
@@ -511,7 +523,7 @@ class MjModel(Struct):
     site_rgba = Array('site_rgba', 'float', lambda s: (s._ptr.nsite, 4,), 'rgba when material is omitted')
     cam_mode = Array('cam_mode', 'int', lambda s: (s._ptr.ncam,), 'camera tracking mode (mjtCamLight)')
     cam_bodyid = Array('cam_bodyid', 'int', lambda s: (s._ptr.ncam,), "id of camera's body")
-    cam_targetbodyid = Array('cam_targetbodyid', 'int', lambda s: (s._ptr.ncam,), 'id of targeted body; -1: none')
+    cam_targetbodyid = Array('cam_targetbodyid', 'int', lambda s: (s._ptr.ncam,), 'id of targeted body; -1: none', fill=-1)
     cam_pos = Array('cam_pos', 'mjtNum', lambda s: (s._ptr.ncam, 3,), 'position rel. to body frame')
     cam_quat = Array('cam_quat', 'mjtNum', lambda s: (s._ptr.ncam, 4,), 'orientation rel. to body frame')
     cam_poscom0 = Array('cam_poscom0', 'mjtNum', lambda s: (s._ptr.ncam, 3,), 'global position rel. to sub-com in qpos0')
@@ -527,7 +539,7 @@ class MjModel(Struct):
     cam_user = Array('cam_user', 'mjtNum', lambda s: (s._ptr.ncam, s._ptr.nuser_cam,), 'user data')
     light_mode = Array('light_mode', 'int', lambda s: (s._ptr.nlight,), 'light tracking mode (mjtCamLight)')
     light_bodyid = Array('light_bodyid', 'int', lambda s: (s._ptr.nlight,), "id of light's body")
-    light_targetbodyid = Array('light_targetbodyid', 'int', lambda s: (s._ptr.nlight,), 'id of targeted body; -1: none')
+    light_targetbodyid = Array('light_targetbodyid', 'int', lambda s: (s._ptr.nlight,), 'id of targeted body; -1: none', fill=-1)
     light_type = Array('light_type', 'int', lambda s: (s._ptr.nlight,), 'spot, directional, etc. (mjtLightType)')
     light_texid = Array('light_texid', 'int', lambda s: (s._ptr.nlight,), 'texture id for image lights')
     light_castshadow = Array('light_castshadow', 'mjtBool', lambda s: (s._ptr.nlight,), 'does light cast shadows')
@@ -581,10 +593,10 @@ class MjModel(Struct):
     flex_plasticmode = Array('flex_plasticmode', 'int', lambda s: (s._ptr.nflex,), 'plastic state bits; 1: bend, 2: stretch')
     flex_shellnum = Array('flex_shellnum', 'int', lambda s: (s._ptr.nflex,), 'number of shells')
     flex_shelldataadr = Array('flex_shelldataadr', 'int', lambda s: (s._ptr.nflex,), 'first shell data address')
-    flex_texcoordadr = Array('flex_texcoordadr', 'int', lambda s: (s._ptr.nflex,), 'address in flex_texcoord; -1: none')
+    flex_texcoordadr = Array('flex_texcoordadr', 'int', lambda s: (s._ptr.nflex,), 'address in flex_texcoord; -1: none', fill=-1)
     flex_nodebodyid = Array('flex_nodebodyid', 'int', lambda s: (s._ptr.nflexnode,), 'node body ids')
     flex_vertbodyid = Array('flex_vertbodyid', 'int', lambda s: (s._ptr.nflexvert,), 'vertex body ids')
-    flex_vertcell = Array('flex_vertcell', 'int', lambda s: (s._ptr.nflexvert,), 'finite cell index for vertex; -1: none')
+    flex_vertcell = Array('flex_vertcell', 'int', lambda s: (s._ptr.nflexvert,), 'finite cell index for vertex; -1: none', fill=-1)
     flex_edge = Array('flex_edge', 'int', lambda s: (s._ptr.nflexedge, 2,), 'edge vertex ids (2 per edge)')
     flex_edgeflap = Array('flex_edgeflap', 'int', lambda s: (s._ptr.nflexedge, 2,), 'adjacent vertex ids (dim=2 only)')
     flex_elem = Array('flex_elem', 'int', lambda s: (s._ptr.nflexelemdata,), 'element vertex ids (dim+1 per elem)')
@@ -648,7 +660,7 @@ class MjModel(Struct):
     mesh_scale = Array('mesh_scale', 'mjtNum', lambda s: (s._ptr.nmesh, 3,), 'scaling applied to asset vertices')
     mesh_pos = Array('mesh_pos', 'mjtNum', lambda s: (s._ptr.nmesh, 3,), 'translation applied to asset vertices')
     mesh_quat = Array('mesh_quat', 'mjtNum', lambda s: (s._ptr.nmesh, 4,), 'rotation applied to asset vertices')
-    mesh_pathadr = Array('mesh_pathadr', 'int', lambda s: (s._ptr.nmesh,), 'address of asset path for mesh; -1: none')
+    mesh_pathadr = Array('mesh_pathadr', 'int', lambda s: (s._ptr.nmesh,), 'address of asset path for mesh; -1: none', fill=-1)
     mesh_polynum = Array('mesh_polynum', 'int', lambda s: (s._ptr.nmesh,), 'number of polygons per mesh')
     mesh_polyadr = Array('mesh_polyadr', 'int', lambda s: (s._ptr.nmesh,), 'first polygon address per mesh')
     mesh_polynormal = Array('mesh_polynormal', 'mjtNum', lambda s: (s._ptr.nmeshpoly, 3,), 'all polygon normals')
@@ -658,7 +670,7 @@ class MjModel(Struct):
     mesh_polymapadr = Array('mesh_polymapadr', 'int', lambda s: (s._ptr.nmeshvert,), 'first polygon address per vertex')
     mesh_polymapnum = Array('mesh_polymapnum', 'int', lambda s: (s._ptr.nmeshvert,), 'number of polygons per vertex')
     mesh_polymap = Array('mesh_polymap', 'int', lambda s: (s._ptr.nmeshpolymap,), 'vertex to polygon map')
-    skin_matid = Array('skin_matid', 'int', lambda s: (s._ptr.nskin,), 'skin material id; -1: none')
+    skin_matid = Array('skin_matid', 'int', lambda s: (s._ptr.nskin,), 'skin material id; -1: none', fill=-1)
     skin_group = Array('skin_group', 'int', lambda s: (s._ptr.nskin,), 'group for visibility')
     skin_rgba = Array('skin_rgba', 'float', lambda s: (s._ptr.nskin, 4,), 'skin rgba')
     skin_inflate = Array('skin_inflate', 'float', lambda s: (s._ptr.nskin,), 'inflate skin in normal direction')
@@ -679,13 +691,13 @@ class MjModel(Struct):
     skin_bonebodyid = Array('skin_bonebodyid', 'int', lambda s: (s._ptr.nskinbone,), 'body id of each bone')
     skin_bonevertid = Array('skin_bonevertid', 'int', lambda s: (s._ptr.nskinbonevert,), 'mesh ids of vertices in each bone')
     skin_bonevertweight = Array('skin_bonevertweight', 'float', lambda s: (s._ptr.nskinbonevert,), 'weights of vertices in each bone')
-    skin_pathadr = Array('skin_pathadr', 'int', lambda s: (s._ptr.nskin,), 'address of asset path for skin; -1: none')
+    skin_pathadr = Array('skin_pathadr', 'int', lambda s: (s._ptr.nskin,), 'address of asset path for skin; -1: none', fill=-1)
     hfield_size = Array('hfield_size', 'mjtNum', lambda s: (s._ptr.nhfield, 4,), '(x, y, z_top, z_bottom)')
     hfield_nrow = Array('hfield_nrow', 'int', lambda s: (s._ptr.nhfield,), 'number of rows in grid')
     hfield_ncol = Array('hfield_ncol', 'int', lambda s: (s._ptr.nhfield,), 'number of columns in grid')
     hfield_adr = Array('hfield_adr', 'int', lambda s: (s._ptr.nhfield,), 'address in hfield_data')
     hfield_data = Array('hfield_data', 'float', lambda s: (s._ptr.nhfielddata,), 'elevation data')
-    hfield_pathadr = Array('hfield_pathadr', 'int', lambda s: (s._ptr.nhfield,), 'address of hfield asset path; -1: none')
+    hfield_pathadr = Array('hfield_pathadr', 'int', lambda s: (s._ptr.nhfield,), 'address of hfield asset path; -1: none', fill=-1)
     tex_type = Array('tex_type', 'int', lambda s: (s._ptr.ntex,), 'texture type (mjtTexture)')
     tex_colorspace = Array('tex_colorspace', 'int', lambda s: (s._ptr.ntex,), 'texture colorspace (mjtColorSpace)')
     tex_height = Array('tex_height', 'int', lambda s: (s._ptr.ntex,), 'number of rows in texture image')
@@ -693,9 +705,9 @@ class MjModel(Struct):
     tex_nchannel = Array('tex_nchannel', 'int', lambda s: (s._ptr.ntex,), 'number of channels in texture image')
     tex_adr = Array('tex_adr', 'mjtSize', lambda s: (s._ptr.ntex,), 'start address in tex_data')
     tex_data = Array('tex_data', 'mjtByte', lambda s: (s._ptr.ntexdata,), 'pixel values')
-    tex_pathadr = Array('tex_pathadr', 'int', lambda s: (s._ptr.ntex,), 'address of texture asset path; -1: none')
-    tex_contenttypeadr = Array('tex_contenttypeadr', 'int', lambda s: (s._ptr.ntex,), 'content type address in paths; -1: none')
-    mat_texid = Array('mat_texid', 'int', lambda s: (s._ptr.nmat, 10,), 'indices of textures; -1: none')
+    tex_pathadr = Array('tex_pathadr', 'int', lambda s: (s._ptr.ntex,), 'address of texture asset path; -1: none', fill=-1)
+    tex_contenttypeadr = Array('tex_contenttypeadr', 'int', lambda s: (s._ptr.ntex,), 'content type address in paths; -1: none', fill=-1)
+    mat_texid = Array('mat_texid', 'int', lambda s: (s._ptr.nmat, 10,), 'indices of textures; -1: none', fill=-1)
     mat_texuniform = Array('mat_texuniform', 'mjtBool', lambda s: (s._ptr.nmat,), 'make texture cube uniform')
     mat_texrepeat = Array('mat_texrepeat', 'float', lambda s: (s._ptr.nmat, 2,), 'texture repetition for 2d mapping')
     mat_emission = Array('mat_emission', 'float', lambda s: (s._ptr.nmat,), 'emission (x rgb)')
@@ -731,7 +743,7 @@ class MjModel(Struct):
     tendon_matid = Array('tendon_matid', 'int', lambda s: (s._ptr.ntendon,), 'material id for rendering')
     tendon_actuatorid = Array('tendon_actuatorid', 'int', lambda s: (s._ptr.ntendon,), 'actuator contributing damping / armature')
     tendon_group = Array('tendon_group', 'int', lambda s: (s._ptr.ntendon,), 'group for visibility')
-    tendon_plasticadr = Array('tendon_plasticadr', 'int', lambda s: (s._ptr.ntendon,), 'start addr in plastic state (-1: none)')
+    tendon_plasticadr = Array('tendon_plasticadr', 'int', lambda s: (s._ptr.ntendon,), 'start addr in plastic state (-1: none)', fill=-1)
     tendon_treenum = Array('tendon_treenum', 'int', lambda s: (s._ptr.ntendon,), "number of trees along tendon's path")
     tendon_treeid = Array('tendon_treeid', 'int', lambda s: (s._ptr.ntendon, 2,), "first two trees along tendon's path")
     ten_J_rownnz = Array('ten_J_rownnz', 'int', lambda s: (s._ptr.ntendon,), 'number of non-zeros in Jacobian row')
@@ -782,7 +794,7 @@ class MjModel(Struct):
     actuator_actrange = Array('actuator_actrange', 'mjtNum', lambda s: (s._ptr.nactuator, 2,), 'range of activations')
     actuator_actearly = Array('actuator_actearly', 'mjtBool', lambda s: (s._ptr.nactuator,), 'step activation before force')
     actuator_history = Array('actuator_history', 'int', lambda s: (s._ptr.nactuator, 2,), 'history buffer: [nsample, interp]')
-    actuator_historyadr = Array('actuator_historyadr', 'int', lambda s: (s._ptr.nactuator,), 'address in history buffer; -1: none')
+    actuator_historyadr = Array('actuator_historyadr', 'int', lambda s: (s._ptr.nactuator,), 'address in history buffer; -1: none', fill=-1)
     actuator_delay = Array('actuator_delay', 'mjtNum', lambda s: (s._ptr.nactuator,), 'delay time; 0: no delay')
     actuator_damping = Array('actuator_damping', 'mjtNum', lambda s: (s._ptr.nactuator,), 'linear damping coefficient')
     actuator_dampingpoly = Array('actuator_dampingpoly', 'mjtNum', lambda s: (s._ptr.nactuator, 2,), 'high-order damping coefficients')
@@ -811,7 +823,7 @@ class MjModel(Struct):
     sensor_cutoff = Array('sensor_cutoff', 'mjtNum', lambda s: (s._ptr.nsensor,), 'cutoff for real and positive; 0: ignore')
     sensor_noise = Array('sensor_noise', 'mjtNum', lambda s: (s._ptr.nsensor,), 'noise standard deviation')
     sensor_history = Array('sensor_history', 'int', lambda s: (s._ptr.nsensor, 2,), 'history buffer: [nsample, interp]')
-    sensor_historyadr = Array('sensor_historyadr', 'int', lambda s: (s._ptr.nsensor,), 'address in history buffer; -1: none')
+    sensor_historyadr = Array('sensor_historyadr', 'int', lambda s: (s._ptr.nsensor,), 'address in history buffer; -1: none', fill=-1)
     sensor_delay = Array('sensor_delay', 'mjtNum', lambda s: (s._ptr.nsensor,), 'delay time in seconds; 0: no delay')
     sensor_interval = Array('sensor_interval', 'mjtNum', lambda s: (s._ptr.nsensor, 2,), 'interval: [period, phase] in seconds')
     sensor_user = Array('sensor_user', 'mjtNum', lambda s: (s._ptr.nsensor, s._ptr.nuser_sensor,), 'user data')

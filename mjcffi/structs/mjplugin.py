@@ -2,7 +2,7 @@
 """The structs of MuJoCo's mjplugin.h, as thin classes over C memory."""
 
 from .._library import ffi, lib
-from .._views import Struct, pointer, scalar, struct_type, text
+from .._views import Struct, ValueStruct, cstring, pointer, scalar, struct_type, text
 
 __all__ = ['MjResource', 'MjpResourceProvider', 'MjpDecoder', 'MjpEncoder', 'MjpPlugin', 'MjSDF']
 
@@ -12,6 +12,7 @@ class MjResource(Struct):
 
     _cname = 'mjResource'
     _ctype = struct_type('mjResource')
+    _fields = ('name', 'data', 'vfs', 'timestamp', 'provider', 'args')
     _repr_fields = ()
     _plain = False
 
@@ -23,7 +24,7 @@ class MjResource(Struct):
     vfs = pointer('vfs', 'pointer to the VFS')
     timestamp: str = text('timestamp', 512, 'timestamp of the resource')
     provider = pointer('provider', 'pointer to the provider')
-    args = pointer('args', 'resource arguments/hints, URI query format key=val&...')
+    args: str = cstring('args', 'resource arguments/hints, URI query format key=val&...')
 
 
 class MjpResourceProvider(Struct):
@@ -31,6 +32,7 @@ class MjpResourceProvider(Struct):
 
     _cname = 'mjpResourceProvider'
     _ctype = struct_type('mjpResourceProvider')
+    _fields = ('prefix', 'open', 'read', 'close', 'mount', 'unmount', 'modified', 'write', 'data')
     _repr_fields = ('open', 'read', 'close', 'mount', 'unmount', 'modified', 'write')
     _plain = False
 
@@ -40,7 +42,7 @@ class MjpResourceProvider(Struct):
         lib.mjp_defaultProvider(root)
         self._init_root(root)
 
-    prefix = pointer('prefix', 'prefix for match against a resource name')
+    prefix: str = cstring('prefix', 'prefix for match against a resource name')
     open: int = scalar('open', 'opening callback')
     read: int = scalar('read', 'reading callback')
     close: int = scalar('close', 'closing callback')
@@ -51,12 +53,12 @@ class MjpResourceProvider(Struct):
     data = pointer('data', 'opaque data pointer')
 
 
-class MjpDecoder(Struct):
+class MjpDecoder(ValueStruct):
     """mjpDecoder."""
 
     _cname = 'mjpDecoder'
     _ctype = struct_type('mjpDecoder')
-    _repr_fields = ('can_decode', 'decode')
+    _fields = ('content_type', 'extension', 'can_decode', 'decode')
     _plain = False
 
     def __init__(self):
@@ -65,18 +67,18 @@ class MjpDecoder(Struct):
         lib.mjp_defaultDecoder(root)
         self._init_root(root)
 
-    content_type = pointer('content_type', '')
-    extension = pointer('extension', '')
+    content_type: str = cstring('content_type', '')
+    extension: str = cstring('extension', '')
     can_decode: int = scalar('can_decode', 'quickly check if this decoder can handle the resource')
     decode: int = scalar('decode', 'main decoding function')
 
 
-class MjpEncoder(Struct):
+class MjpEncoder(ValueStruct):
     """mjpEncoder."""
 
     _cname = 'mjpEncoder'
     _ctype = struct_type('mjpEncoder')
-    _repr_fields = ('encode', 'close_resource')
+    _fields = ('content_type', 'extension', 'encode', 'close_resource')
     _plain = False
 
     def __init__(self):
@@ -85,8 +87,8 @@ class MjpEncoder(Struct):
         lib.mjp_defaultEncoder(root)
         self._init_root(root)
 
-    content_type = pointer('content_type', '')
-    extension = pointer('extension', '')
+    content_type: str = cstring('content_type', '')
+    extension: str = cstring('extension', '')
     encode: int = scalar('encode', 'Function to encode an mjSpec and mjModel to a mjResource.')
     close_resource: int = scalar('close_resource', 'Function to close/free the resource.')
 
@@ -96,6 +98,7 @@ class MjpPlugin(Struct):
 
     _cname = 'mjpPlugin'
     _ctype = struct_type('mjpPlugin')
+    _fields = ('name', 'nattribute', 'attributes', 'capabilityflags', 'needstage', 'nstate', 'nsensordata', 'init', 'destroy', 'copy', 'reset', 'compute', 'advance', 'visualize', 'actuator_act_dot', 'sdf_distance', 'sdf_gradient', 'sdf_staticdistance', 'sdf_attribute', 'sdf_aabb')
     _repr_fields = ('nattribute', 'capabilityflags', 'needstage')
     _plain = False
 
@@ -105,7 +108,7 @@ class MjpPlugin(Struct):
         lib.mjp_defaultPlugin(root)
         self._init_root(root)
 
-    name = pointer('name', 'globally unique name identifying the plugin')
+    name: str = cstring('name', 'globally unique name identifying the plugin')
     nattribute: int = scalar('nattribute', 'number of configuration attributes')
     attributes = pointer('attributes', 'name of configuration attributes')
     capabilityflags: int = scalar('capabilityflags', 'plugin capabilities: bitfield of mjtPluginCapabilityBit')
@@ -132,6 +135,7 @@ class MjSDF(Struct):
 
     _cname = 'mjSDF'
     _ctype = struct_type('mjSDF')
+    _fields = ('plugin', 'id', 'type', 'relpos', 'relmat', 'geomtype')
     _repr_fields = ('type',)
     _plain = False
 

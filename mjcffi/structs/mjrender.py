@@ -2,18 +2,26 @@
 """The structs of MuJoCo's mjrender.h, as thin classes over C memory."""
 
 from .._library import ffi, lib
-from .._views import (DynamicArray, FixedArray, Struct, guarded, int_argument, pointer, scalar,
-                      struct_pointer, struct_type)
+from .._views import (DynamicArray, FixedArray, Struct, ValueStruct, cstring, guarded,
+                      int_argument, scalar, struct_pointer, struct_type)
 
 __all__ = ['MjrRect', 'MjrRendererInfo', 'MjrVertexAttribute', 'MjrContext']
 
 
-class MjrRect(Struct):
+class MjrRect(ValueStruct):
     """mjrRect: OpenGL rectangle."""
 
     _cname = 'mjrRect'
     _ctype = struct_type('mjrRect')
-    _repr_fields = ('left', 'bottom', 'width', 'height')
+    _fields = ('left', 'bottom', 'width', 'height')
+
+    def __init__(self, left, bottom, width, height):
+        """MjrRect(left, bottom, width, height): a new mjrRect with these fields."""
+        super().__init__()
+        self.left = left
+        self.bottom = bottom
+        self.width = width
+        self.height = height
 
     left: int = scalar('left', 'left (usually 0)')
     bottom: int = scalar('bottom', 'bottom (usually 0)')
@@ -21,12 +29,12 @@ class MjrRect(Struct):
     height: int = scalar('height', 'height (usually buffer height)')
 
 
-class MjrRendererInfo(Struct):
+class MjrRendererInfo(ValueStruct):
     """mjrRendererInfo: active renderer identity."""
 
     _cname = 'mjrRendererInfo'
     _ctype = struct_type('mjrRendererInfo')
-    _repr_fields = ()
+    _fields = ('renderer', 'backend')
     _plain = False
 
     def __init__(self):
@@ -35,16 +43,22 @@ class MjrRendererInfo(Struct):
         lib.mjr_defaultRendererInfo(root)
         self._init_root(root)
 
-    renderer = pointer('renderer', 'renderer family: classic, filament, noop')
-    backend = pointer('backend', 'graphics backend: opengl, vulkan; empty if uninitialized')
+    renderer: str = cstring('renderer', 'renderer family: classic, filament, noop')
+    backend: str = cstring('backend', 'graphics backend: opengl, vulkan; empty if uninitialized')
 
 
-class MjrVertexAttribute(Struct):
+class MjrVertexAttribute(ValueStruct):
     """mjrVertexAttribute: vertex attribute format specification."""
 
     _cname = 'mjrVertexAttribute'
     _ctype = struct_type('mjrVertexAttribute')
-    _repr_fields = ('usage', 'type')
+    _fields = ('usage', 'type')
+
+    def __init__(self, usage=0, type=0):
+        """MjrVertexAttribute(usage, type): a new mjrVertexAttribute with these fields."""
+        super().__init__()
+        self.usage = usage
+        self.type = type
 
     usage: int = scalar('usage', 'position, normal, etc [mjrVertexAttributeUsage]')
     type: int = scalar('type', 'float3, ubyte4, etc. [mjrVertexAttributeType]')
@@ -55,14 +69,18 @@ class MjrContext(Struct):
 
     _cname = 'mjrContext'
     _ctype = struct_type('mjrContext')
+    _fields = ('lineWidth', 'shadowClip', 'shadowScale', 'fogStart', 'fogEnd', 'fogRGBA', 'shadowSize', 'offWidth', 'offHeight', 'offSamples', 'fontScale', 'auxWidth', 'auxHeight', 'auxSamples', 'offFBO', 'offFBO_r', 'offColor', 'offColor_r', 'offDepthStencil', 'offDepthStencil_r', 'shadowFBO', 'shadowTex', 'auxFBO', 'auxFBO_r', 'auxColor', 'auxColor_r', 'mat_texid', 'mat_texuniform', 'mat_texrepeat', 'ntexture', 'textureType', 'texture', 'basePlane', 'baseMesh', 'baseHField', 'baseBuiltin', 'baseFontNormal', 'baseFontShadow', 'baseFontBig', 'rangePlane', 'rangeMesh', 'rangeHField', 'rangeBuiltin', 'rangeFont', 'nskin', 'skinvertVBO', 'skinnormalVBO', 'skintexcoordVBO', 'skinfaceVBO', 'charWidth', 'charWidthBig', 'charHeight', 'charHeightBig', 'glInitialized', 'windowAvailable', 'windowSamples', 'windowStereo', 'windowDoublebuffer', 'currentBuffer', 'readPixelFormat', 'readDepthMap')
     _repr_fields = ('lineWidth', 'shadowClip', 'shadowScale', 'fogStart', 'fogEnd', 'fogRGBA', 'shadowSize', 'offWidth', 'offHeight', 'offSamples', 'fontScale', 'auxWidth')
     _plain = False
+    _bounds = {'ntexture': 1000}
 
     def __init__(self, model=None, fontscale=None):
-        """MjrContext() is zero- or default-initialized; MjrContext(model, fontscale) is made by mjr_makeContext and freed by mjr_freeContext when collected."""
+        """MjrContext() is default-initialized; MjrContext(model, fontscale) is made by mjr_makeContext and freed by mjr_freeContext when collected."""
+        if len({x is None for x in (model, fontscale)}) > 1:
+            raise TypeError('MjrContext takes model and fontscale together, or none of them')
         root = ffi.new('mjrContext *')
         lib.mjr_defaultContext(root)
-        if model is not None or fontscale is not None:
+        if model is not None:
             guarded(lib.mjcffi_guard_mjr_makeContext, struct_pointer(model, 'mjModel', 'model'), root, int_argument(fontscale, 'fontscale'))
             root = ffi.gc(root, lib.mjr_freeContext)
         self._init_root(root)
@@ -111,7 +129,7 @@ class MjrContext(Struct):
     rangeHField: int = scalar('rangeHField', 'all hfields from model')
     rangeBuiltin: int = scalar('rangeBuiltin', 'all builtin geoms, with quality from model')
     rangeFont: int = scalar('rangeFont', 'all characters in font')
-    nskin: int = scalar('nskin', 'number of skins')
+    nskin: int = scalar('nskin', 'number of skins', readonly=True)
     skinvertVBO = DynamicArray('skinvertVBO', 'unsigned int', lambda s: (s._ptr.nskin,), 'skin vertex position VBOs')
     skinnormalVBO = DynamicArray('skinnormalVBO', 'unsigned int', lambda s: (s._ptr.nskin,), 'skin vertex normal VBOs')
     skintexcoordVBO = DynamicArray('skintexcoordVBO', 'unsigned int', lambda s: (s._ptr.nskin,), 'skin vertex texture coordinate VBOs')

@@ -12,6 +12,7 @@ class MjsElement(Struct):
 
     _cname = 'mjsElement'
     _ctype = struct_type('mjsElement')
+    _fields = ('elemtype', 'signature')
     _repr_fields = ('elemtype', 'signature')
 
     def __init__(self, *args, **kwargs):
@@ -26,29 +27,30 @@ class MjsCompiler(Struct):
 
     _cname = 'mjsCompiler'
     _ctype = struct_type('mjsCompiler')
+    _fields = ('autolimits', 'boundmass', 'boundinertia', 'settotalmass', 'balanceinertia', 'fitaabb', 'degree', 'eulerseq', 'discardvisual', 'usethread', 'fusestatic', 'inertiafromgeom', 'inertiagrouprange', 'saveinertial', 'savecompiled', 'savecanonical', 'alignfree', 'conflict', 'passthrough', 'LRopt', 'meshdir', 'texturedir', 'authored')
     _repr_fields = ('autolimits', 'boundmass', 'boundinertia', 'settotalmass', 'balanceinertia', 'fitaabb', 'degree', 'discardvisual', 'usethread', 'fusestatic', 'inertiafromgeom', 'inertiagrouprange')
     _plain = False
 
     def __init__(self, *args, **kwargs):
         raise TypeError('MjsCompiler has no constructor: MuJoCo creates it')
 
-    autolimits: bool = scalar('autolimits', 'infer "limited" attribute based on range')
+    autolimits: bool = scalar('autolimits', 'infer "limited" attribute based on range', boolean=True)
     boundmass: float = scalar('boundmass', 'enforce minimum body mass')
     boundinertia: float = scalar('boundinertia', 'enforce minimum body diagonal inertia')
     settotalmass: float = scalar('settotalmass', '(deprecated) rescale masses and inertias; <=0: ignore')
-    balanceinertia: bool = scalar('balanceinertia', 'automatically impose A + B >= C rule')
-    fitaabb: bool = scalar('fitaabb', 'meshfit to aabb instead of inertia box')
-    degree: bool = scalar('degree', 'angles in radians or degrees')
+    balanceinertia: bool = scalar('balanceinertia', 'automatically impose A + B >= C rule', boolean=True)
+    fitaabb: bool = scalar('fitaabb', 'meshfit to aabb instead of inertia box', boolean=True)
+    degree: bool = scalar('degree', 'angles in radians or degrees', boolean=True)
     eulerseq: str = text('eulerseq', 3, 'sequence for euler rotations')
-    discardvisual: bool = scalar('discardvisual', 'discard visual geoms in parser')
-    usethread: bool = scalar('usethread', 'use multiple threads to speed up compiler')
-    fusestatic: bool = scalar('fusestatic', 'fuse static bodies with parent')
+    discardvisual: bool = scalar('discardvisual', 'discard visual geoms in parser', boolean=True)
+    usethread: bool = scalar('usethread', 'use multiple threads to speed up compiler', boolean=True)
+    fusestatic: bool = scalar('fusestatic', 'fuse static bodies with parent', boolean=True)
     inertiafromgeom: int = scalar('inertiafromgeom', 'use geom inertias')
     inertiagrouprange = FixedArray('inertiagrouprange', 'int', lambda s: (2,), 'range of geom groups used to compute inertia')
-    saveinertial: bool = scalar('saveinertial', 'save explicit inertial clause for all bodies to XML')
-    savecompiled: bool = scalar('savecompiled', 'save values as compiled, not as written in the spec')
-    savecanonical: bool = scalar('savecanonical', 'save quaternions and radians, not the notation of the spec')
-    alignfree: bool = scalar('alignfree', 'align free joints with inertial frame')
+    saveinertial: bool = scalar('saveinertial', 'save explicit inertial clause for all bodies to XML', boolean=True)
+    savecompiled: bool = scalar('savecompiled', 'save values as compiled, not as written in the spec', boolean=True)
+    savecanonical: bool = scalar('savecanonical', 'save quaternions and radians, not the notation of the spec', boolean=True)
+    alignfree: bool = scalar('alignfree', 'align free joints with inertial frame', boolean=True)
     conflict: int = scalar('conflict', 'conflict resolution for attach')
     passthrough: int = scalar('passthrough', 'assets left by reference (bitmask)')
     LRopt = Nested('LRopt', lambda: MjLROpt, 'options for lengthrange computation')
@@ -62,6 +64,7 @@ class MjsAuthored(Struct):
 
     _cname = 'mjsAuthored'
     _ctype = struct_type('mjsAuthored')
+    _fields = ('option', 'disableflags', 'enableflags', 'disableactuator', 'visual_global', 'visual_quality', 'visual_headlight', 'visual_map', 'visual_scale', 'visual_rgba')
     _repr_fields = ('option', 'disableflags', 'enableflags', 'disableactuator', 'visual_global', 'visual_quality', 'visual_headlight', 'visual_map', 'visual_scale', 'visual_rgba')
 
     def __init__(self, *args, **kwargs):
@@ -84,6 +87,7 @@ class MjSpec(Struct):
 
     _cname = 'mjSpec'
     _ctype = struct_type('mjSpec')
+    _fields = ('element', 'modelname', 'compiler', 'strippath', 'option', 'visual', 'stat', 'memory', 'nemax', 'nuserdata', 'nuser_body', 'nuser_jnt', 'nuser_geom', 'nuser_site', 'nuser_cam', 'nuser_tendon', 'nuser_actuator', 'nuser_sensor', 'nkey', 'njmax', 'nconmax', 'nstack', 'comment', 'modelfiledir', 'hasImplicitPluginElem', 'authored')
     _repr_fields = ('strippath', 'memory', 'nemax', 'nuserdata', 'nuser_body', 'nuser_jnt', 'nuser_geom', 'nuser_site', 'nuser_cam', 'nuser_tendon', 'nuser_actuator', 'nuser_sensor')
     _plain = False
 
@@ -93,7 +97,7 @@ class MjSpec(Struct):
     element = pointer('element', 'element type')
     modelname = pointer('modelname', 'model name')
     compiler = Nested('compiler', lambda: MjsCompiler, 'compiler options')
-    strippath: bool = scalar('strippath', 'automatically strip paths from mesh files')
+    strippath: bool = scalar('strippath', 'automatically strip paths from mesh files', boolean=True)
     option = Nested('option', lambda: MjOption, 'physics options')
     visual = Nested('visual', lambda: MjVisual, 'visual options')
     stat = Nested('stat', lambda: MjStatistic, 'statistics override (if defined)')
@@ -114,7 +118,7 @@ class MjSpec(Struct):
     nstack: int = scalar('nstack', '(deprecated) number of mjtNums in mjData stack')
     comment = pointer('comment', 'comment at top of XML')
     modelfiledir = pointer('modelfiledir', 'path to model file')
-    hasImplicitPluginElem: bool = scalar('hasImplicitPluginElem', 'already encountered an implicit plugin sensor/actuator')
+    hasImplicitPluginElem: bool = scalar('hasImplicitPluginElem', 'already encountered an implicit plugin sensor/actuator', boolean=True)
     authored = Nested('authored', lambda: MjsAuthored, '')
 
 
@@ -123,6 +127,7 @@ class MjsOrientation(Struct):
 
     _cname = 'mjsOrientation'
     _ctype = struct_type('mjsOrientation')
+    _fields = ('type', 'axisangle', 'xyaxes', 'zaxis', 'euler')
     _repr_fields = ('type', 'axisangle', 'xyaxes', 'zaxis', 'euler')
 
     def __init__(self, *args, **kwargs):
@@ -140,6 +145,7 @@ class MjsPlugin(Struct):
 
     _cname = 'mjsPlugin'
     _ctype = struct_type('mjsPlugin')
+    _fields = ('element', 'name', 'plugin_name', 'active', 'info')
     _repr_fields = ('active',)
     _plain = False
 
@@ -149,7 +155,7 @@ class MjsPlugin(Struct):
     element = pointer('element', 'element type')
     name = pointer('name', 'instance name')
     plugin_name = pointer('plugin_name', 'plugin name')
-    active: bool = scalar('active', 'is the plugin active')
+    active: bool = scalar('active', 'is the plugin active', boolean=True)
     info = pointer('info', 'message appended to compiler errors')
 
 
@@ -158,6 +164,7 @@ class MjsBody(Struct):
 
     _cname = 'mjsBody'
     _ctype = struct_type('mjsBody')
+    _fields = ('element', 'childclass', 'pos', 'quat', 'alt', 'mass', 'ipos', 'iquat', 'inertia', 'ialt', 'fullinertia', 'mocap', 'gravcomp', 'sleep', 'simple', 'fuse', 'userdata', 'explicitinertial', 'plugin', 'info')
     _repr_fields = ('pos', 'quat', 'mass', 'ipos', 'iquat', 'inertia', 'fullinertia', 'mocap', 'gravcomp', 'sleep', 'simple', 'fuse')
     _plain = False
 
@@ -175,13 +182,13 @@ class MjsBody(Struct):
     inertia = FixedArray('inertia', 'double', lambda s: (3,), 'diagonal inertia (in i-frame)')
     ialt = Nested('ialt', lambda: MjsOrientation, 'inertial frame alternative orientation')
     fullinertia = FixedArray('fullinertia', 'double', lambda s: (6,), 'non-axis-aligned inertia matrix')
-    mocap: bool = scalar('mocap', 'is this a mocap body')
+    mocap: bool = scalar('mocap', 'is this a mocap body', boolean=True)
     gravcomp: float = scalar('gravcomp', 'gravity compensation')
     sleep: int = scalar('sleep', 'sleep policy')
     simple: int = scalar('simple', 'simple body optimization (0: false, 1: auto)')
     fuse: int = scalar('fuse', 'fuse with parent when static (0: false, 1: auto)')
     userdata = pointer('userdata', 'user data')
-    explicitinertial: bool = scalar('explicitinertial', 'whether to save the body with explicit inertial clause')
+    explicitinertial: bool = scalar('explicitinertial', 'whether to save the body with explicit inertial clause', boolean=True)
     plugin = Nested('plugin', lambda: MjsPlugin, 'passive force plugin')
     info = pointer('info', 'message appended to compiler errors')
 
@@ -191,6 +198,7 @@ class MjsFrame(Struct):
 
     _cname = 'mjsFrame'
     _ctype = struct_type('mjsFrame')
+    _fields = ('element', 'childclass', 'pos', 'quat', 'alt', 'scale', 'scaling', 'massscale', 'info')
     _repr_fields = ('pos', 'quat', 'scale', 'scaling', 'massscale')
     _plain = False
 
@@ -213,6 +221,7 @@ class MjsJoint(Struct):
 
     _cname = 'mjsJoint'
     _ctype = struct_type('mjsJoint')
+    _fields = ('element', 'type', 'pos', 'axis', 'ref', 'align', 'stiffness', 'springref', 'springyield', 'springdamper', 'limited', 'range', 'margin', 'solref_limit', 'solimp_limit', 'actfrclimited', 'actfrcrange', 'armature', 'damping', 'frictionloss', 'solref_friction', 'solimp_friction', 'group', 'actgravcomp', 'userdata', 'info')
     _repr_fields = ('type', 'pos', 'axis', 'ref', 'align', 'stiffness', 'springref', 'springyield', 'springdamper', 'limited', 'range', 'margin')
     _plain = False
 
@@ -242,7 +251,7 @@ class MjsJoint(Struct):
     solref_friction = FixedArray('solref_friction', 'mjtNum', lambda s: (2,), 'solver reference: dof friction')
     solimp_friction = FixedArray('solimp_friction', 'mjtNum', lambda s: (5,), 'solver impedance: dof friction')
     group: int = scalar('group', 'group')
-    actgravcomp: bool = scalar('actgravcomp', 'is gravcomp force applied via actuators')
+    actgravcomp: bool = scalar('actgravcomp', 'is gravcomp force applied via actuators', boolean=True)
     userdata = pointer('userdata', 'user data')
     info = pointer('info', 'message appended to compiler errors')
 
@@ -252,6 +261,7 @@ class MjsGeom(Struct):
 
     _cname = 'mjsGeom'
     _ctype = struct_type('mjsGeom')
+    _fields = ('element', 'type', 'pos', 'quat', 'alt', 'fromto', 'size', 'contype', 'conaffinity', 'condim', 'priority', 'friction', 'solmix', 'solref', 'solimp', 'margin', 'gap', 'surfacevel', 'adhesion', 'mass', 'density', 'typeinertia', 'fluid_ellipsoid', 'fluid_coefs', 'material', 'rgba', 'group', 'castshadow', 'hfieldname', 'meshname', 'fitscale', 'userdata', 'plugin', 'info')
     _repr_fields = ('type', 'pos', 'quat', 'fromto', 'size', 'contype', 'conaffinity', 'condim', 'priority', 'friction', 'solmix', 'solref')
     _plain = False
 
@@ -285,7 +295,7 @@ class MjsGeom(Struct):
     material = pointer('material', 'name of material')
     rgba = FixedArray('rgba', 'float', lambda s: (4,), 'rgba when material is omitted')
     group: int = scalar('group', 'group')
-    castshadow: bool = scalar('castshadow', 'does geom cast shadows')
+    castshadow: bool = scalar('castshadow', 'does geom cast shadows', boolean=True)
     hfieldname = pointer('hfieldname', 'heightfield attached to geom')
     meshname = pointer('meshname', 'mesh attached to geom')
     fitscale: float = scalar('fitscale', 'scale mesh uniformly')
@@ -299,6 +309,7 @@ class MjsSite(Struct):
 
     _cname = 'mjsSite'
     _ctype = struct_type('mjsSite')
+    _fields = ('element', 'pos', 'quat', 'alt', 'fromto', 'size', 'type', 'material', 'group', 'rgba', 'meshname', 'userdata', 'info')
     _repr_fields = ('pos', 'quat', 'fromto', 'size', 'type', 'group', 'rgba')
     _plain = False
 
@@ -325,6 +336,7 @@ class MjsCamera(Struct):
 
     _cname = 'mjsCamera'
     _ctype = struct_type('mjsCamera')
+    _fields = ('element', 'pos', 'quat', 'alt', 'mode', 'targetbody', 'proj', 'resolution', 'output', 'fovy', 'ipd', 'intrinsic', 'sensor_size', 'focal_length', 'focal_pixel', 'principal_length', 'principal_pixel', 'userdata', 'info')
     _repr_fields = ('pos', 'quat', 'mode', 'proj', 'resolution', 'output', 'fovy', 'ipd', 'intrinsic', 'sensor_size', 'focal_length', 'focal_pixel')
     _plain = False
 
@@ -357,6 +369,7 @@ class MjsLight(Struct):
 
     _cname = 'mjsLight'
     _ctype = struct_type('mjsLight')
+    _fields = ('element', 'pos', 'dir', 'mode', 'targetbody', 'active', 'type', 'texture', 'castshadow', 'bulbradius', 'intensity', 'range', 'attenuation', 'cutoff', 'softness', 'exponent', 'ambient', 'diffuse', 'specular', 'info')
     _repr_fields = ('pos', 'dir', 'mode', 'active', 'type', 'castshadow', 'bulbradius', 'intensity', 'range', 'attenuation', 'cutoff', 'softness')
     _plain = False
 
@@ -368,10 +381,10 @@ class MjsLight(Struct):
     dir = FixedArray('dir', 'double', lambda s: (3,), 'direction')
     mode: int = scalar('mode', 'tracking mode')
     targetbody = pointer('targetbody', 'target body for targeting')
-    active: bool = scalar('active', 'is light active')
+    active: bool = scalar('active', 'is light active', boolean=True)
     type: int = scalar('type', 'type of light')
     texture = pointer('texture', 'texture name for image lights')
-    castshadow: bool = scalar('castshadow', 'does light cast shadows')
+    castshadow: bool = scalar('castshadow', 'does light cast shadows', boolean=True)
     bulbradius: float = scalar('bulbradius', 'bulb radius, for soft shadows')
     intensity: float = scalar('intensity', 'intensity, in candelas')
     range: float = scalar('range', 'range of effectiveness')
@@ -390,6 +403,7 @@ class MjsFlex(Struct):
 
     _cname = 'mjsFlex'
     _ctype = struct_type('mjsFlex')
+    _fields = ('element', 'contype', 'conaffinity', 'condim', 'priority', 'friction', 'solmix', 'solref', 'solimp', 'margin', 'gap', 'dim', 'radius', 'size', 'flatskin', 'selfcollide', 'passive', 'activelayers', 'group', 'edgestiffness', 'edgedamping', 'rgba', 'material', 'young', 'poisson', 'shear', 'damping', 'thickness', 'stressyield', 'elastic2d', 'elastic3d', 'section', 'sectionsize', 'cellcount', 'order', 'nodebody', 'vertbody', 'node', 'vert', 'elem', 'texcoord', 'elemtexcoord', 'info')
     _repr_fields = ('contype', 'conaffinity', 'condim', 'priority', 'friction', 'solmix', 'solref', 'solimp', 'margin', 'gap', 'dim', 'radius')
     _plain = False
 
@@ -410,7 +424,7 @@ class MjsFlex(Struct):
     dim: int = scalar('dim', 'element dimensionality')
     radius: float = scalar('radius', 'radius around primitive element')
     size = FixedArray('size', 'double', lambda s: (3,), 'vertex bounding box half sizes in qpos0')
-    flatskin: bool = scalar('flatskin', 'render flex skin with flat shading')
+    flatskin: bool = scalar('flatskin', 'render flex skin with flat shading', boolean=True)
     selfcollide: int = scalar('selfcollide', 'mode for flex self collision')
     passive: int = scalar('passive', 'mode for passive collisions')
     activelayers: int = scalar('activelayers', 'number of active element layers in 3D')
@@ -446,6 +460,7 @@ class MjsMesh(Struct):
 
     _cname = 'mjsMesh'
     _ctype = struct_type('mjsMesh')
+    _fields = ('element', 'content_type', 'file', 'refpos', 'refquat', 'scale', 'inertia', 'smoothnormal', 'needsdf', 'maxhullvert', 'uservert', 'usernormal', 'usertexcoord', 'userface', 'userfacenormal', 'userfacetexcoord', 'usernode', 'usertet', 'plugin', 'material', 'octree_maxdepth', 'info')
     _repr_fields = ('refpos', 'refquat', 'scale', 'inertia', 'smoothnormal', 'needsdf', 'maxhullvert', 'octree_maxdepth')
     _plain = False
 
@@ -459,9 +474,9 @@ class MjsMesh(Struct):
     refquat = FixedArray('refquat', 'double', lambda s: (4,), 'reference orientation')
     scale = FixedArray('scale', 'double', lambda s: (3,), 'rescale mesh')
     inertia: int = scalar('inertia', 'inertia type (convex, legacy, exact, shell)')
-    smoothnormal: bool = scalar('smoothnormal', 'do not exclude large-angle faces from normals')
-    needsdf: bool = scalar('needsdf', 'compute sdf from mesh')
-    maxhullvert: int = scalar('maxhullvert', 'maximum vertex count for the convex hull', readonly=True)
+    smoothnormal: bool = scalar('smoothnormal', 'do not exclude large-angle faces from normals', boolean=True)
+    needsdf: bool = scalar('needsdf', 'compute sdf from mesh', boolean=True)
+    maxhullvert: int = scalar('maxhullvert', 'maximum vertex count for the convex hull')
     uservert = pointer('uservert', 'user vertex data')
     usernormal = pointer('usernormal', 'user normal data')
     usertexcoord = pointer('usertexcoord', 'user texcoord data')
@@ -481,6 +496,7 @@ class MjsHField(Struct):
 
     _cname = 'mjsHField'
     _ctype = struct_type('mjsHField')
+    _fields = ('element', 'content_type', 'file', 'size', 'nrow', 'ncol', 'userdata', 'info')
     _repr_fields = ('size', 'nrow', 'ncol')
     _plain = False
 
@@ -502,6 +518,7 @@ class MjsSkin(Struct):
 
     _cname = 'mjsSkin'
     _ctype = struct_type('mjsSkin')
+    _fields = ('element', 'file', 'material', 'rgba', 'inflate', 'group', 'vert', 'texcoord', 'face', 'bodyname', 'bindpos', 'bindquat', 'vertid', 'vertweight', 'info')
     _repr_fields = ('rgba', 'inflate', 'group')
     _plain = False
 
@@ -530,6 +547,7 @@ class MjsTexture(Struct):
 
     _cname = 'mjsTexture'
     _ctype = struct_type('mjsTexture')
+    _fields = ('element', 'type', 'colorspace', 'builtin', 'mark', 'rgb1', 'rgb2', 'markrgb', 'random', 'height', 'width', 'nchannel', 'content_type', 'file', 'gridsize', 'gridlayout', 'cubefiles', 'data', 'hflip', 'vflip', 'embed', 'info')
     _repr_fields = ('type', 'colorspace', 'builtin', 'mark', 'rgb1', 'rgb2', 'markrgb', 'random', 'height', 'width', 'nchannel', 'gridsize')
     _plain = False
 
@@ -554,8 +572,8 @@ class MjsTexture(Struct):
     gridlayout: str = text('gridlayout', 12, 'row-major: L,R,F,B,U,D for faces; . for unused')
     cubefiles = pointer('cubefiles', 'different file for each side of the cube')
     data = pointer('data', 'texture data')
-    hflip: bool = scalar('hflip', 'horizontal flip')
-    vflip: bool = scalar('vflip', 'vertical flip')
+    hflip: bool = scalar('hflip', 'horizontal flip', boolean=True)
+    vflip: bool = scalar('vflip', 'vertical flip', boolean=True)
     embed: int = scalar('embed', 'pixels in the model, or the file by reference')
     info = pointer('info', 'message appended to compiler errors')
 
@@ -565,6 +583,7 @@ class MjsMaterial(Struct):
 
     _cname = 'mjsMaterial'
     _ctype = struct_type('mjsMaterial')
+    _fields = ('element', 'textures', 'texuniform', 'texrepeat', 'emission', 'specular', 'shininess', 'reflectance', 'metallic', 'roughness', 'rgba', 'info')
     _repr_fields = ('texuniform', 'texrepeat', 'emission', 'specular', 'shininess', 'reflectance', 'metallic', 'roughness', 'rgba')
     _plain = False
 
@@ -573,7 +592,7 @@ class MjsMaterial(Struct):
 
     element = pointer('element', 'element type')
     textures = pointer('textures', 'names of textures (empty: none)')
-    texuniform: bool = scalar('texuniform', 'make texture cube uniform')
+    texuniform: bool = scalar('texuniform', 'make texture cube uniform', boolean=True)
     texrepeat = FixedArray('texrepeat', 'float', lambda s: (2,), 'texture repetition for 2D mapping')
     emission: float = scalar('emission', 'emission')
     specular: float = scalar('specular', 'specular')
@@ -590,6 +609,7 @@ class MjsPair(Struct):
 
     _cname = 'mjsPair'
     _ctype = struct_type('mjsPair')
+    _fields = ('element', 'geomname1', 'geomname2', 'condim', 'solref', 'solreffriction', 'solimp', 'margin', 'gap', 'adhesion', 'friction', 'info')
     _repr_fields = ('condim', 'solref', 'solreffriction', 'solimp', 'margin', 'gap', 'adhesion', 'friction')
     _plain = False
 
@@ -615,6 +635,7 @@ class MjsExclude(Struct):
 
     _cname = 'mjsExclude'
     _ctype = struct_type('mjsExclude')
+    _fields = ('element', 'bodyname1', 'bodyname2', 'info')
     _repr_fields = ()
     _plain = False
 
@@ -632,6 +653,7 @@ class MjsEquality(Struct):
 
     _cname = 'mjsEquality'
     _ctype = struct_type('mjsEquality')
+    _fields = ('element', 'type', 'data', 'active', 'name1', 'name2', 'objtype', 'solref', 'solimp', 'info')
     _repr_fields = ('type', 'data', 'active', 'objtype', 'solref', 'solimp')
     _plain = False
 
@@ -641,7 +663,7 @@ class MjsEquality(Struct):
     element = pointer('element', 'element type')
     type: int = scalar('type', 'constraint type')
     data = FixedArray('data', 'double', lambda s: (12,), 'type-dependent data')
-    active: bool = scalar('active', 'is equality initially active')
+    active: bool = scalar('active', 'is equality initially active', boolean=True)
     name1 = pointer('name1', 'name of object 1')
     name2 = pointer('name2', 'name of object 2')
     objtype: int = scalar('objtype', 'type of both objects')
@@ -655,6 +677,7 @@ class MjsTendon(Struct):
 
     _cname = 'mjsTendon'
     _ctype = struct_type('mjsTendon')
+    _fields = ('element', 'stiffness', 'springlength', 'springyield', 'damping', 'frictionloss', 'solref_friction', 'solimp_friction', 'armature', 'limited', 'actfrclimited', 'range', 'actfrcrange', 'margin', 'solref_limit', 'solimp_limit', 'material', 'width', 'rgba', 'group', 'userdata', 'info')
     _repr_fields = ('stiffness', 'springlength', 'springyield', 'damping', 'frictionloss', 'solref_friction', 'solimp_friction', 'armature', 'limited', 'actfrclimited', 'range', 'actfrcrange')
     _plain = False
 
@@ -690,6 +713,7 @@ class MjsWrap(Struct):
 
     _cname = 'mjsWrap'
     _ctype = struct_type('mjsWrap')
+    _fields = ('element', 'type', 'info')
     _repr_fields = ('type',)
     _plain = False
 
@@ -706,6 +730,7 @@ class MjsActuator(Struct):
 
     _cname = 'mjsActuator'
     _ctype = struct_type('mjsActuator')
+    _fields = ('element', 'type', 'gaintype', 'gainprm', 'biastype', 'biasprm', 'dyntype', 'dynprm', 'actdim', 'ctrlspec', 'velrange', 'ffrange', 'actearly', 'trntype', 'gear', 'target', 'refsite', 'slidersite', 'cranklength', 'lengthrange', 'inheritrange', 'damping', 'armature', 'ctrllimited', 'ctrlrange', 'forcelimited', 'forcerange', 'actlimited', 'actrange', 'group', 'nsample', 'interp', 'delay', 'userdata', 'plugin', 'info')
     _repr_fields = ('type', 'gaintype', 'gainprm', 'biastype', 'biasprm', 'dyntype', 'dynprm', 'actdim', 'ctrlspec', 'velrange', 'ffrange', 'actearly')
     _plain = False
 
@@ -724,7 +749,7 @@ class MjsActuator(Struct):
     ctrlspec: int = scalar('ctrlspec', 'input signature, scoped by gaintype; 0: type default')
     velrange = FixedArray('velrange', 'double', lambda s: (2,), 'range of the velocity-setpoint input (pid)')
     ffrange = FixedArray('ffrange', 'double', lambda s: (2,), 'range of the feedforward input (pid)')
-    actearly: bool = scalar('actearly', 'apply next activations to qfrc')
+    actearly: bool = scalar('actearly', 'apply next activations to qfrc', boolean=True)
     trntype: int = scalar('trntype', 'transmission type')
     gear = FixedArray('gear', 'double', lambda s: (6,), 'length and transmitted force scaling')
     target = pointer('target', 'name of transmission target')
@@ -755,6 +780,7 @@ class MjsSensor(Struct):
 
     _cname = 'mjsSensor'
     _ctype = struct_type('mjsSensor')
+    _fields = ('element', 'type', 'objtype', 'objname', 'reftype', 'refname', 'intprm', 'datatype', 'needstage', 'dim', 'cutoff', 'noise', 'nsample', 'interp', 'delay', 'interval', 'userdata', 'plugin', 'info')
     _repr_fields = ('type', 'objtype', 'reftype', 'intprm', 'datatype', 'needstage', 'dim', 'cutoff', 'noise', 'nsample', 'interp', 'delay')
     _plain = False
 
@@ -787,6 +813,7 @@ class MjsNumeric(Struct):
 
     _cname = 'mjsNumeric'
     _ctype = struct_type('mjsNumeric')
+    _fields = ('element', 'data', 'size', 'info')
     _repr_fields = ('size',)
     _plain = False
 
@@ -804,6 +831,7 @@ class MjsText(Struct):
 
     _cname = 'mjsText'
     _ctype = struct_type('mjsText')
+    _fields = ('element', 'data', 'info')
     _repr_fields = ()
     _plain = False
 
@@ -820,6 +848,7 @@ class MjsTuple(Struct):
 
     _cname = 'mjsTuple'
     _ctype = struct_type('mjsTuple')
+    _fields = ('element', 'objtype', 'objname', 'objprm', 'info')
     _repr_fields = ()
     _plain = False
 
@@ -838,6 +867,7 @@ class MjsKey(Struct):
 
     _cname = 'mjsKey'
     _ctype = struct_type('mjsKey')
+    _fields = ('element', 'time', 'qpos', 'qvel', 'act', 'mpos', 'mquat', 'ctrl', 'plastic', 'info')
     _repr_fields = ('time',)
     _plain = False
 
@@ -861,6 +891,7 @@ class MjsDefault(Struct):
 
     _cname = 'mjsDefault'
     _ctype = struct_type('mjsDefault')
+    _fields = ('element', 'joint', 'geom', 'site', 'camera', 'light', 'flex', 'mesh', 'texture', 'material', 'pair', 'equality', 'tendon', 'actuator')
     _repr_fields = ()
     _plain = False
 

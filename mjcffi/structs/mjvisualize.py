@@ -2,18 +2,18 @@
 """The structs of MuJoCo's mjvisualize.h, as thin classes over C memory."""
 
 from .._library import ffi, lib
-from .._views import (DynamicArray, FixedArray, FixedRecords, Records, Struct, guarded,
-                      int_argument, pointer, scalar, struct_pointer, struct_type, text)
+from .._views import (DynamicArray, FixedArray, FixedRecords, Records, Struct, ValueStruct,
+                      guarded, int_argument, scalar, struct_pointer, struct_type, text, total)
 
 __all__ = ['MjvPerturb', 'MjvCamera', 'MjvGLCamera', 'MjvGeom', 'MjvLight', 'MjvOption', 'MjvScene', 'MjvFigure']
 
 
-class MjvPerturb(Struct):
+class MjvPerturb(ValueStruct):
     """mjvPerturb: object selection and perturbation."""
 
     _cname = 'mjvPerturb'
     _ctype = struct_type('mjvPerturb')
-    _repr_fields = ('select', 'flexselect', 'skinselect', 'active', 'active2', 'refpos', 'refquat', 'refselpos', 'localpos', 'localmass', 'scale')
+    _fields = ('select', 'flexselect', 'skinselect', 'active', 'active2', 'refpos', 'refquat', 'refselpos', 'localpos', 'localmass', 'scale')
 
     def __init__(self):
         """A new mjvPerturb, initialized by mjv_defaultPerturb."""
@@ -34,12 +34,12 @@ class MjvPerturb(Struct):
     scale: float = scalar('scale', 'relative mouse motion-to-space scaling (set by initPerturb)')
 
 
-class MjvCamera(Struct):
+class MjvCamera(ValueStruct):
     """mjvCamera: abstract camera."""
 
     _cname = 'mjvCamera'
     _ctype = struct_type('mjvCamera')
-    _repr_fields = ('type', 'fixedcamid', 'trackbodyid', 'lookat', 'distance', 'azimuth', 'elevation', 'orthographic')
+    _fields = ('type', 'fixedcamid', 'trackbodyid', 'lookat', 'distance', 'azimuth', 'elevation', 'orthographic')
 
     def __init__(self):
         """A new mjvCamera, initialized by mjv_defaultCamera."""
@@ -57,12 +57,12 @@ class MjvCamera(Struct):
     orthographic: int = scalar('orthographic', '0: perspective; 1: orthographic')
 
 
-class MjvGLCamera(Struct):
+class MjvGLCamera(ValueStruct):
     """mjvGLCamera: OpenGL camera."""
 
     _cname = 'mjvGLCamera'
     _ctype = struct_type('mjvGLCamera')
-    _repr_fields = ('pos', 'forward', 'up', 'frustum_center', 'frustum_width', 'frustum_bottom', 'frustum_top', 'frustum_near', 'frustum_far', 'orthographic')
+    _fields = ('pos', 'forward', 'up', 'frustum_center', 'frustum_width', 'frustum_bottom', 'frustum_top', 'frustum_near', 'frustum_far', 'orthographic')
 
     pos = FixedArray('pos', 'float', lambda s: (3,), 'position')
     forward = FixedArray('forward', 'float', lambda s: (3,), 'forward direction')
@@ -76,12 +76,18 @@ class MjvGLCamera(Struct):
     orthographic: int = scalar('orthographic', '0: perspective; 1: orthographic')
 
 
-class MjvGeom(Struct):
+class MjvGeom(ValueStruct):
     """mjvGeom: abstract geom."""
 
     _cname = 'mjvGeom'
     _ctype = struct_type('mjvGeom')
-    _repr_fields = ('type', 'dataid', 'objtype', 'objid', 'category', 'matid', 'texid', 'texuniform', 'texcoord', 'segid', 'size', 'pos')
+    _fields = ('type', 'dataid', 'objtype', 'objid', 'category', 'matid', 'texid', 'texuniform', 'texcoord', 'segid', 'size', 'pos', 'mat', 'rgba', 'emission', 'specular', 'shininess', 'reflectance', 'texrepeat', 'castshadow', 'label', 'camdist', 'modelrbound', 'transparent')
+
+    def __init__(self):
+        """A new mjvGeom, initialized by mjv_initGeom."""
+        root = ffi.new('mjvGeom *')
+        lib.mjv_initGeom(root, lib.mjGEOM_NONE, ffi.NULL, ffi.NULL, ffi.NULL, ffi.NULL)
+        self._init_root(root)
 
     type: int = scalar('type', 'geom type (mjtGeom)')
     dataid: int = scalar('dataid', 'mesh, hfield or plane id; -1: none; mesh: 2*id or 2*id+1 (hull);')
@@ -95,7 +101,7 @@ class MjvGeom(Struct):
     segid: int = scalar('segid', 'segmentation id; -1: not shown')
     size = FixedArray('size', 'float', lambda s: (3,), 'size parameters; multi-material flex: (radius, face offset, face count)')
     pos = FixedArray('pos', 'float', lambda s: (3,), 'Cartesian position')
-    mat = FixedArray('mat', 'float', lambda s: (9,), 'Cartesian orientation')
+    mat = FixedArray('mat', 'float', lambda s: (3, 3,), 'Cartesian orientation')
     rgba = FixedArray('rgba', 'float', lambda s: (4,), 'color and transparency')
     emission: float = scalar('emission', 'emission coef')
     specular: float = scalar('specular', 'specular coef')
@@ -109,12 +115,12 @@ class MjvGeom(Struct):
     transparent: int = scalar('transparent', 'treat geom as transparent')
 
 
-class MjvLight(Struct):
+class MjvLight(ValueStruct):
     """mjvLight: OpenGL light."""
 
     _cname = 'mjvLight'
     _ctype = struct_type('mjvLight')
-    _repr_fields = ('id', 'pos', 'dir', 'type', 'texid', 'attenuation', 'cutoff', 'exponent', 'ambient', 'diffuse', 'specular', 'headlight')
+    _fields = ('id', 'pos', 'dir', 'type', 'texid', 'attenuation', 'cutoff', 'exponent', 'ambient', 'diffuse', 'specular', 'headlight', 'castshadow', 'bulbradius', 'intensity', 'range', 'softness')
 
     id: int = scalar('id', 'light id, -1 for headlight')
     pos = FixedArray('pos', 'float', lambda s: (3,), 'position rel. to body frame')
@@ -135,12 +141,12 @@ class MjvLight(Struct):
     softness: float = scalar('softness', 'spotlight edge softness')
 
 
-class MjvOption(Struct):
+class MjvOption(ValueStruct):
     """mjvOption: abstract visualization options."""
 
     _cname = 'mjvOption'
     _ctype = struct_type('mjvOption')
-    _repr_fields = ('label', 'frame', 'geomgroup', 'sitegroup', 'jointgroup', 'tendongroup', 'actuatorgroup', 'flexgroup', 'skingroup', 'bvh_depth', 'flex_layer')
+    _fields = ('label', 'frame', 'geomgroup', 'sitegroup', 'jointgroup', 'tendongroup', 'actuatorgroup', 'flexgroup', 'skingroup', 'flags', 'bvh_depth', 'flex_layer')
 
     def __init__(self):
         """A new mjvOption, initialized by mjv_defaultOption."""
@@ -167,24 +173,26 @@ class MjvScene(Struct):
 
     _cname = 'mjvScene'
     _ctype = struct_type('mjvScene')
+    _fields = ('maxgeom', 'ngeom', 'geoms', 'geomorder', 'nflex', 'flexedgeadr', 'flexedgenum', 'flexvertadr', 'flexvertnum', 'flexfaceadr', 'flexfacenum', 'flexfaceused', 'flexedge', 'flexvert', 'flexface', 'flexnormal', 'flextexcoord', 'flexvertopt', 'flexedgeopt', 'flexfaceopt', 'flexskinopt', 'nskin', 'skinfacenum', 'skinvertadr', 'skinvertnum', 'skinvert', 'skinnormal', 'nlight', 'lights', 'camera', 'enabletransform', 'translate', 'rotate', 'scale', 'stereo', 'flags', 'framewidth', 'framergb', 'status')
     _repr_fields = ('maxgeom', 'ngeom', 'nflex', 'flexvertopt', 'flexedgeopt', 'flexfaceopt', 'flexskinopt', 'nskin', 'nlight', 'enabletransform', 'translate', 'rotate')
     _plain = False
-    _bounds = {'ngeom': 'maxgeom'}
+    _bounds = {'ngeom': 'maxgeom', 'nlight': 100}
 
     def __init__(self, model=None, maxgeom=None):
-        """MjvScene() is zero- or default-initialized; MjvScene(model, maxgeom) is made by mjv_makeScene and freed by mjv_freeScene when collected."""
+        """MjvScene() is made by mjv_makeScene with no model; MjvScene(model, maxgeom) is made by mjv_makeScene and freed by mjv_freeScene when collected."""
+        if len({x is None for x in (model, maxgeom)}) > 1:
+            raise TypeError('MjvScene takes model and maxgeom together, or none of them')
         root = ffi.new('mjvScene *')
         lib.mjv_defaultScene(root)
-        if model is not None or maxgeom is not None:
-            guarded(lib.mjcffi_guard_mjv_makeScene, struct_pointer(model, 'mjModel', 'model'), root, int_argument(maxgeom, 'maxgeom'))
-            root = ffi.gc(root, lib.mjv_freeScene)
+        guarded(lib.mjcffi_guard_mjv_makeScene, ffi.NULL if model is None else struct_pointer(model, 'mjModel', 'model'), root, 0 if maxgeom is None else int_argument(maxgeom, 'maxgeom'))
+        root = ffi.gc(root, lib.mjv_freeScene)
         self._init_root(root)
 
     maxgeom: int = scalar('maxgeom', 'size of allocated geom buffer', readonly=True)
     ngeom: int = scalar('ngeom', 'number of geoms currently in buffer')
-    geoms = Records('geoms', lambda: MjvGeom, lambda s: s._ptr.ngeom, 'buffer for geoms')
-    geomorder = DynamicArray('geomorder', 'int', lambda s: (s._ptr.ngeom,), 'buffer for ordering geoms by distance to camera')
-    nflex: int = scalar('nflex', 'number of flexes')
+    geoms = Records('geoms', lambda: MjvGeom, lambda s: s._ptr.maxgeom, 'buffer for geoms')
+    geomorder = DynamicArray('geomorder', 'int', lambda s: (s._ptr.maxgeom,), 'buffer for ordering geoms by distance to camera')
+    nflex: int = scalar('nflex', 'number of flexes', readonly=True)
     flexedgeadr = DynamicArray('flexedgeadr', 'int', lambda s: (s._ptr.nflex,), 'address of flex edges')
     flexedgenum = DynamicArray('flexedgenum', 'int', lambda s: (s._ptr.nflex,), 'number of edges in flex')
     flexvertadr = DynamicArray('flexvertadr', 'int', lambda s: (s._ptr.nflex,), 'address of flex vertices')
@@ -192,21 +200,21 @@ class MjvScene(Struct):
     flexfaceadr = DynamicArray('flexfaceadr', 'int', lambda s: (s._ptr.nflex,), 'address of flex faces')
     flexfacenum = DynamicArray('flexfacenum', 'int', lambda s: (s._ptr.nflex,), 'number of flex faces allocated')
     flexfaceused = DynamicArray('flexfaceused', 'int', lambda s: (s._ptr.nflex,), 'number of flex faces currently in use')
-    flexedge = pointer('flexedge', 'flex edge data')
-    flexvert = pointer('flexvert', 'flex vertices')
-    flexface = pointer('flexface', 'flex faces vertices (9*sum(flexfacenum))')
-    flexnormal = pointer('flexnormal', 'flex face normals (9*sum(flexfacenum))')
-    flextexcoord = pointer('flextexcoord', 'flex face texture coordinates (6*sum(flexfacenum))')
+    flexedge = DynamicArray('flexedge', 'int', lambda s: (2*total(s._ptr.flexedgenum, s._ptr.nflex),), 'flex edge data')
+    flexvert = DynamicArray('flexvert', 'float', lambda s: (3*total(s._ptr.flexvertnum, s._ptr.nflex),), 'flex vertices')
+    flexface = DynamicArray('flexface', 'float', lambda s: (9*total(s._ptr.flexfacenum, s._ptr.nflex),), 'flex faces vertices (9*sum(flexfacenum))')
+    flexnormal = DynamicArray('flexnormal', 'float', lambda s: (9*total(s._ptr.flexfacenum, s._ptr.nflex),), 'flex face normals (9*sum(flexfacenum))')
+    flextexcoord = DynamicArray('flextexcoord', 'float', lambda s: (6*total(s._ptr.flexfacenum, s._ptr.nflex),), 'flex face texture coordinates (6*sum(flexfacenum))')
     flexvertopt: int = scalar('flexvertopt', 'copy of mjVIS_FLEXVERT mjvOption flag')
     flexedgeopt: int = scalar('flexedgeopt', 'copy of mjVIS_FLEXEDGE mjvOption flag')
     flexfaceopt: int = scalar('flexfaceopt', 'copy of mjVIS_FLEXFACE mjvOption flag')
     flexskinopt: int = scalar('flexskinopt', 'copy of mjVIS_FLEXSKIN mjvOption flag')
-    nskin: int = scalar('nskin', 'number of skins')
+    nskin: int = scalar('nskin', 'number of skins', readonly=True)
     skinfacenum = DynamicArray('skinfacenum', 'int', lambda s: (s._ptr.nskin,), 'number of faces in skin')
     skinvertadr = DynamicArray('skinvertadr', 'int', lambda s: (s._ptr.nskin,), 'address of skin vertices')
     skinvertnum = DynamicArray('skinvertnum', 'int', lambda s: (s._ptr.nskin,), 'number of vertices in skin')
-    skinvert = pointer('skinvert', 'skin vertex data')
-    skinnormal = pointer('skinnormal', 'skin normal data')
+    skinvert = DynamicArray('skinvert', 'float', lambda s: (3*total(s._ptr.skinvertnum, s._ptr.nskin),), 'skin vertex data')
+    skinnormal = DynamicArray('skinnormal', 'float', lambda s: (3*total(s._ptr.skinvertnum, s._ptr.nskin),), 'skin normal data')
     nlight: int = scalar('nlight', 'number of lights currently in buffer')
     lights = FixedRecords('lights', lambda: MjvLight, 100, 'buffer for lights (nlight)')
     camera = FixedRecords('camera', lambda: MjvGLCamera, 2, 'left and right camera')
@@ -226,6 +234,7 @@ class MjvFigure(Struct):
 
     _cname = 'mjvFigure'
     _ctype = struct_type('mjvFigure')
+    _fields = ('flg_legend', 'flg_ticklabel', 'flg_extend', 'flg_barplot', 'flg_selection', 'flg_symmetric', 'linewidth', 'gridwidth', 'gridsize', 'gridrgb', 'figurergba', 'panergba', 'legendrgba', 'textrgb', 'linergb', 'range', 'xformat', 'yformat', 'minwidth', 'title', 'xlabel', 'linename', 'legendoffset', 'subplot', 'highlight', 'highlightid', 'selection', 'linepnt', 'linedata', 'xaxispixel', 'yaxispixel', 'xaxisdata', 'yaxisdata')
     _repr_fields = ('flg_legend', 'flg_ticklabel', 'flg_extend', 'flg_barplot', 'flg_selection', 'flg_symmetric', 'linewidth', 'gridwidth', 'gridsize', 'gridrgb', 'figurergba', 'panergba')
 
     def __init__(self):
@@ -255,7 +264,7 @@ class MjvFigure(Struct):
     minwidth: str = text('minwidth', 20, 'string used to determine min y-tick width')
     title: str = text('title', 1000, 'figure title; subplots separated with 2+ spaces')
     xlabel: str = text('xlabel', 100, 'x-axis label')
-    linename = FixedArray('linename', 'char', lambda s: (100, 100,), 'line names for legend')
+    linename = FixedArray('linename', 'S100', lambda s: (100,), 'line names for legend')
     legendoffset: int = scalar('legendoffset', 'number of lines to offset legend')
     subplot: int = scalar('subplot', 'selected subplot (for title rendering)')
     highlight = FixedArray('highlight', 'int', lambda s: (2,), 'if point is in legend rect, highlight line')
