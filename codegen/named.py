@@ -4,7 +4,7 @@ The categories are the `name_<category>adr` fields of mjModel.  A category's
 fields are the mjModel and mjData arrays whose rows are counted by
 `n<category>` (body_pos: nbody rows), shown without the category prefix
 (m.body('b').pos).  Some fields are ragged instead, one span per element: a
-joint's qpos and dofs, a sensor's data, a tuple's elements...  The tables
+joint's qpos and dofs, a sensor's data, an actuator's controls...  The tables
 below name those spans; they are the only special cases.
 """
 
@@ -27,8 +27,17 @@ IMAGES = {
     "tex_data": ("tex", "tex_adr", ("tex_height", "tex_width", "tex_nchannel")),
 }
 
-# Sparse rows, shown dense (a copy, not a view): (category, rowadr, rownnz, colind).
-DENSE = {"actuator_moment": ("actuator", "moment_rowadr", "moment_rownnz", "moment_colind")}
+# An actuator's controls (nu rows) and force outputs (nout rows): since MuJoCo 4.0
+# an actuator may have several of each.  (category, address field, count field)
+GROUPS = {
+    "m.nu": ("actuator", "actuator_ctrladr", "actuator_ctrlnum"),
+    "m.nout": ("actuator", "actuator_outadr", "actuator_outnum"),
+}
+
+# Sparse rows, shown dense (a read-only copy, not a view): (category, the rows'
+# GROUPS size, rowadr, rownnz, colind).  An actuator has one row per force output.
+DENSE = {"actuator_moment": ("actuator", "m.nout", "moment_rowadr", "moment_rownnz",
+                             "moment_colind")}
 
 # mjData.plastic, shared by the elements that have a plasticadr (-1: none).
 PLASTIC = {"jnt": "jnt_plasticadr", "tendon": "tendon_plasticadr"}
@@ -41,9 +50,9 @@ RENAMES = {"sensordata": "data"}
 # except for these, which the official bindings take from the dofs.
 PREFER_DOF = {"bodyid"}
 
-# Categories whose fields may also be counted by these sizes (nu controls,
-# nout force outputs of the actuators).
-COUNTS = {"actuator": ("m.nactuator", "m.nu", "m.nout")}
+# Fields whose name starts with these prefixes are also offered as `_<attr>`:
+# the official bindings name the older tendon_* fields so (m.tendon(0)._limited).
+PRIVATE = {"tendon": "tendon_"}
 
 # Other names for categories, as the official bindings document them.
 ALIASES = {"jnt": "joint", "cam": "camera", "tex": "texture", "mat": "material",
@@ -73,7 +82,7 @@ def _attr(category, name):
 
 def _fields(category, struct, described):
     """(attribute, field, kind, params) of one category in mjModel or mjData."""
-    rows = COUNTS.get(category, (f"m.n{category}",))
+    count = f"m.n{category}"
     found = {}
     for f in described[struct]:
         if f.kind != "pointer" or f.moves or not f.extents or f.elem not in _NUMERIC_OR_CHAR:
@@ -82,8 +91,10 @@ def _fields(category, struct, described):
             continue
         first = f.extents[0]
         attr = _attr(category, f.name)
-        if first in rows:
+        if first == count:
             entry = ("row", ())
+        elif first in GROUPS and GROUPS[first][0] == category:
+            entry = ("rows", GROUPS[first][1:])
         elif category == "jnt" and first == "m.nq":
             entry = ("qpos", ())
         elif category == "jnt" and first == "m.nv" and (struct == "mjData" or
@@ -94,7 +105,8 @@ def _fields(category, struct, described):
         elif f.name in IMAGES and IMAGES[f.name][0] == category:
             entry = ("image", (IMAGES[f.name][1], IMAGES[f.name][2]))
         elif f.name in DENSE and DENSE[f.name][0] == category:
-            entry = ("dense", DENSE[f.name][1:])
+            rows_size = DENSE[f.name][1]
+            entry = ("dense", GROUPS[rows_size][1:] + DENSE[f.name][2:])
         elif f.name == "plastic" and category in PLASTIC:
             entry = ("plastic", (PLASTIC[category],))
         else:
@@ -105,6 +117,11 @@ def _fields(category, struct, described):
             if (kind == "dof") != keep_dof:
                 continue
         found[attr] = (attr, f.name, f.elem, kind, _columns(f.extents), params)
+    prefix = PRIVATE.get(category)
+    if prefix:
+        for attr, entry in list(found.items()):
+            if entry[1].startswith(prefix):
+                found["_" + attr] = ("_" + attr,) + entry[1:]
     return [found[name] for name in sorted(found)]
 
 
@@ -128,8 +145,9 @@ def generate(described):
              "",
              "The kinds of fields are read by mjcffi/named.py.  The methods find a cached",
              "accessor in `self._named` (by name) or `self._named_ids` (by id), or else",
-             "call `self._accessor(category, key)`, which mjcffi/named.py gives MjModel",
-             "and MjData.",
+             "call `self._accessor(category, name)`, which mjcffi/named.py gives MjModel",
+             "and MjData.  As in the official bindings, the argument is a name or an id,",
+             "and defaults to the empty name (which no element has: a KeyError).",
              '"""',
              "",
              "from typing import NamedTuple",
@@ -139,7 +157,7 @@ def generate(described):
              "    attr: str            # the accessor's attribute",
              "    name: str            # the mjModel or mjData field",
              "    elem: str            # its C element type",
-             "    kind: str            # row, qpos, dof, span, image, dense or plastic",
+             "    kind: str            # row, rows, qpos, dof, span, image, dense or plastic",
              "    columns: object      # values per row: an int, or a function of the mjModel",
              "    params: tuple        # the kind's parameters (address fields, ...)",
              "",
@@ -172,17 +190,17 @@ def generate(described):
                   f'    """The named-access methods of {struct}: one per category, and aliases."""',
                   ""]
         for category in methods[side]:
-            lines += [f"    def {category}(self, key):",
-                      f'        """The {category} named or numbered `key` (str or int): an accessor of its'
-                      f' {side} fields."""',
+            lines += [f'    def {category}(self, name=""):',
+                      f'        """The {category} named or numbered `name` (str or int): an accessor of'
+                      f' its {side} fields."""',
                       "        try:",
-                      "            if type(key) is str:",
-                      f"                return self._named[{category!r}][key]",
-                      "            if type(key) is int:",
-                      f"                return self._named_ids[{category!r}][key]",
+                      "            if type(name) is str:",
+                      f"                return self._named[{category!r}][name]",
+                      "            if type(name) is int:",
+                      f"                return self._named_ids[{category!r}][name]",
                       "        except (KeyError, AttributeError):",
                       "            pass",
-                      f"        return self._accessor({category!r}, key)",
+                      f"        return self._accessor({category!r}, name)",
                       ""]
             if category in ALIASES:
                 lines += [f"    {ALIASES[category]} = {category}", ""]

@@ -3,8 +3,9 @@
 
 The kinds of fields are read by mjcffi/named.py.  The methods find a cached
 accessor in `self._named` (by name) or `self._named_ids` (by id), or else
-call `self._accessor(category, key)`, which mjcffi/named.py gives MjModel
-and MjData.
+call `self._accessor(category, name)`, which mjcffi/named.py gives MjModel
+and MjData.  As in the official bindings, the argument is a name or an id,
+and defaults to the empty name (which no element has: a KeyError).
 """
 
 from typing import NamedTuple
@@ -14,7 +15,7 @@ class Field(NamedTuple):
     attr: str            # the accessor's attribute
     name: str            # the mjModel or mjData field
     elem: str            # its C element type
-    kind: str            # row, qpos, dof, span, image, dense or plastic
+    kind: str            # row, rows, qpos, dof, span, image, dense or plastic
     columns: object      # values per row: an int, or a function of the mjModel
     params: tuple        # the kind's parameters (address fields, ...)
 
@@ -401,6 +402,37 @@ CATEGORIES = {
         Field('J_colind', 'ten_J_colind', 'int', 'span', 1, ('ten_J_rowadr', 'ten_J_rownnz')),
         Field('J_rowadr', 'ten_J_rowadr', 'int', 'row', 1, ()),
         Field('J_rownnz', 'ten_J_rownnz', 'int', 'row', 1, ()),
+        Field('_actfrclimited', 'tendon_actfrclimited', 'mjtBool', 'row', 1, ()),
+        Field('_actfrcrange', 'tendon_actfrcrange', 'mjtNum', 'row', 2, ()),
+        Field('_actuatorid', 'tendon_actuatorid', 'int', 'row', 1, ()),
+        Field('_adr', 'tendon_adr', 'int', 'row', 1, ()),
+        Field('_armature', 'tendon_armature', 'mjtNum', 'row', 1, ()),
+        Field('_damping', 'tendon_damping', 'mjtNum', 'row', 1, ()),
+        Field('_dampingpoly', 'tendon_dampingpoly', 'mjtNum', 'row', 2, ()),
+        Field('_frictionloss', 'tendon_frictionloss', 'mjtNum', 'row', 1, ()),
+        Field('_group', 'tendon_group', 'int', 'row', 1, ()),
+        Field('_invweight0', 'tendon_invweight0', 'mjtNum', 'row', 1, ()),
+        Field('_length0', 'tendon_length0', 'mjtNum', 'row', 1, ()),
+        Field('_lengthspring', 'tendon_lengthspring', 'mjtNum', 'row', 2, ()),
+        Field('_limited', 'tendon_limited', 'mjtBool', 'row', 1, ()),
+        Field('_margin', 'tendon_margin', 'mjtNum', 'row', 1, ()),
+        Field('_matid', 'tendon_matid', 'int', 'row', 1, ()),
+        Field('_num', 'tendon_num', 'int', 'row', 1, ()),
+        Field('_plasticadr', 'tendon_plasticadr', 'int', 'row', 1, ()),
+        Field('_range', 'tendon_range', 'mjtNum', 'row', 2, ()),
+        Field('_rgba', 'tendon_rgba', 'float', 'row', 4, ()),
+        Field('_solimp_fri', 'tendon_solimp_fri', 'mjtNum', 'row', 5, ()),
+        Field('_solimp_lim', 'tendon_solimp_lim', 'mjtNum', 'row', 5, ()),
+        Field('_solref_fri', 'tendon_solref_fri', 'mjtNum', 'row', 2, ()),
+        Field('_solref_lim', 'tendon_solref_lim', 'mjtNum', 'row', 2, ()),
+        Field('_springyield', 'tendon_springyield', 'mjtNum', 'row', 1, ()),
+        Field('_stiffness', 'tendon_stiffness', 'mjtNum', 'row', 1, ()),
+        Field('_stiffnesspoly', 'tendon_stiffnesspoly', 'mjtNum', 'row', 2, ()),
+        Field('_treeid', 'tendon_treeid', 'int', 'row', 2, ()),
+        Field('_treenum', 'tendon_treenum', 'int', 'row', 1, ()),
+        Field('_type', 'tendon_type', 'int', 'row', 1, ()),
+        Field('_user', 'tendon_user', 'mjtNum', 'row', lambda m: m.nuser_tendon, ()),
+        Field('_width', 'tendon_width', 'mjtNum', 'row', 1, ()),
         Field('actfrclimited', 'tendon_actfrclimited', 'mjtBool', 'row', 1, ()),
         Field('actfrcrange', 'tendon_actfrcrange', 'mjtNum', 'row', 2, ()),
         Field('actuatorid', 'tendon_actuatorid', 'int', 'row', 1, ()),
@@ -441,7 +473,7 @@ CATEGORIES = {
         Field('wrapnum', 'ten_wrapnum', 'int', 'row', 1, ()),
     )),
     'actuator': Category('nactuator', (
-        Field('acc0', 'actuator_acc0', 'mjtNum', 'row', 1, ()),
+        Field('acc0', 'actuator_acc0', 'mjtNum', 'rows', 1, ('actuator_outadr', 'actuator_outnum')),
         Field('actadr', 'actuator_actadr', 'int', 'row', 1, ()),
         Field('actearly', 'actuator_actearly', 'mjtBool', 'row', 1, ()),
         Field('actlimited', 'actuator_actlimited', 'mjtBool', 'row', 1, ()),
@@ -452,9 +484,9 @@ CATEGORIES = {
         Field('biastype', 'actuator_biastype', 'int', 'row', 1, ()),
         Field('cranklength', 'actuator_cranklength', 'mjtNum', 'row', 1, ()),
         Field('ctrladr', 'actuator_ctrladr', 'int', 'row', 1, ()),
-        Field('ctrllimited', 'actuator_ctrllimited', 'mjtBool', 'row', 1, ()),
+        Field('ctrllimited', 'actuator_ctrllimited', 'mjtBool', 'rows', 1, ('actuator_ctrladr', 'actuator_ctrlnum')),
         Field('ctrlnum', 'actuator_ctrlnum', 'int', 'row', 1, ()),
-        Field('ctrlrange', 'actuator_ctrlrange', 'mjtNum', 'row', 2, ()),
+        Field('ctrlrange', 'actuator_ctrlrange', 'mjtNum', 'rows', 2, ('actuator_ctrladr', 'actuator_ctrlnum')),
         Field('ctrlspec', 'actuator_ctrlspec', 'int', 'row', 1, ()),
         Field('damping', 'actuator_damping', 'mjtNum', 'row', 1, ()),
         Field('dampingpoly', 'actuator_dampingpoly', 'mjtNum', 'row', 2, ()),
@@ -465,12 +497,12 @@ CATEGORIES = {
         Field('forcerange', 'actuator_forcerange', 'mjtNum', 'row', 2, ()),
         Field('gainprm', 'actuator_gainprm', 'mjtNum', 'row', 10, ()),
         Field('gaintype', 'actuator_gaintype', 'int', 'row', 1, ()),
-        Field('gear', 'actuator_gear', 'mjtNum', 'row', 6, ()),
+        Field('gear', 'actuator_gear', 'mjtNum', 'rows', 6, ('actuator_outadr', 'actuator_outnum')),
         Field('group', 'actuator_group', 'int', 'row', 1, ()),
         Field('history', 'actuator_history', 'int', 'row', 2, ()),
         Field('historyadr', 'actuator_historyadr', 'int', 'row', 1, ()),
-        Field('length0', 'actuator_length0', 'mjtNum', 'row', 1, ()),
-        Field('lengthrange', 'actuator_lengthrange', 'mjtNum', 'row', 2, ()),
+        Field('length0', 'actuator_length0', 'mjtNum', 'rows', 1, ('actuator_outadr', 'actuator_outnum')),
+        Field('lengthrange', 'actuator_lengthrange', 'mjtNum', 'rows', 2, ('actuator_outadr', 'actuator_outnum')),
         Field('outadr', 'actuator_outadr', 'int', 'row', 1, ()),
         Field('outnum', 'actuator_outnum', 'int', 'row', 1, ()),
         Field('plugin', 'actuator_plugin', 'int', 'row', 1, ()),
@@ -478,13 +510,13 @@ CATEGORIES = {
         Field('trntype', 'actuator_trntype', 'int', 'row', 1, ()),
         Field('user', 'actuator_user', 'mjtNum', 'row', lambda m: m.nuser_actuator, ()),
     ), (
-        Field('ctrl', 'ctrl', 'mjtNum', 'row', 1, ()),
-        Field('force', 'actuator_force', 'mjtNum', 'row', 1, ()),
-        Field('length', 'actuator_length', 'mjtNum', 'row', 1, ()),
-        Field('moment', 'actuator_moment', 'mjtNum', 'dense', 1, ('moment_rowadr', 'moment_rownnz', 'moment_colind')),
-        Field('moment_rowadr', 'moment_rowadr', 'int', 'row', 1, ()),
-        Field('moment_rownnz', 'moment_rownnz', 'int', 'row', 1, ()),
-        Field('velocity', 'actuator_velocity', 'mjtNum', 'row', 1, ()),
+        Field('ctrl', 'ctrl', 'mjtNum', 'rows', 1, ('actuator_ctrladr', 'actuator_ctrlnum')),
+        Field('force', 'actuator_force', 'mjtNum', 'rows', 1, ('actuator_outadr', 'actuator_outnum')),
+        Field('length', 'actuator_length', 'mjtNum', 'rows', 1, ('actuator_outadr', 'actuator_outnum')),
+        Field('moment', 'actuator_moment', 'mjtNum', 'dense', 1, ('actuator_outadr', 'actuator_outnum', 'moment_rowadr', 'moment_rownnz', 'moment_colind')),
+        Field('moment_rowadr', 'moment_rowadr', 'int', 'rows', 1, ('actuator_outadr', 'actuator_outnum')),
+        Field('moment_rownnz', 'moment_rownnz', 'int', 'rows', 1, ('actuator_outadr', 'actuator_outnum')),
+        Field('velocity', 'actuator_velocity', 'mjtNum', 'rows', 1, ('actuator_outadr', 'actuator_outnum')),
     )),
     'sensor': Category('nsensor', (
         Field('adr', 'sensor_adr', 'int', 'row', 1, ()),
@@ -556,259 +588,259 @@ ALIASES = {'jnt': 'joint', 'cam': 'camera', 'tex': 'texture', 'mat': 'material',
 class MjModelNames:
     """The named-access methods of MjModel: one per category, and aliases."""
 
-    def body(self, key):
-        """The body named or numbered `key` (str or int): an accessor of its model fields."""
+    def body(self, name=""):
+        """The body named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['body'][key]
-            if type(key) is int:
-                return self._named_ids['body'][key]
+            if type(name) is str:
+                return self._named['body'][name]
+            if type(name) is int:
+                return self._named_ids['body'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('body', key)
+        return self._accessor('body', name)
 
-    def jnt(self, key):
-        """The jnt named or numbered `key` (str or int): an accessor of its model fields."""
+    def jnt(self, name=""):
+        """The jnt named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['jnt'][key]
-            if type(key) is int:
-                return self._named_ids['jnt'][key]
+            if type(name) is str:
+                return self._named['jnt'][name]
+            if type(name) is int:
+                return self._named_ids['jnt'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('jnt', key)
+        return self._accessor('jnt', name)
 
     joint = jnt
 
-    def geom(self, key):
-        """The geom named or numbered `key` (str or int): an accessor of its model fields."""
+    def geom(self, name=""):
+        """The geom named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['geom'][key]
-            if type(key) is int:
-                return self._named_ids['geom'][key]
+            if type(name) is str:
+                return self._named['geom'][name]
+            if type(name) is int:
+                return self._named_ids['geom'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('geom', key)
+        return self._accessor('geom', name)
 
-    def site(self, key):
-        """The site named or numbered `key` (str or int): an accessor of its model fields."""
+    def site(self, name=""):
+        """The site named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['site'][key]
-            if type(key) is int:
-                return self._named_ids['site'][key]
+            if type(name) is str:
+                return self._named['site'][name]
+            if type(name) is int:
+                return self._named_ids['site'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('site', key)
+        return self._accessor('site', name)
 
-    def cam(self, key):
-        """The cam named or numbered `key` (str or int): an accessor of its model fields."""
+    def cam(self, name=""):
+        """The cam named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['cam'][key]
-            if type(key) is int:
-                return self._named_ids['cam'][key]
+            if type(name) is str:
+                return self._named['cam'][name]
+            if type(name) is int:
+                return self._named_ids['cam'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('cam', key)
+        return self._accessor('cam', name)
 
     camera = cam
 
-    def light(self, key):
-        """The light named or numbered `key` (str or int): an accessor of its model fields."""
+    def light(self, name=""):
+        """The light named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['light'][key]
-            if type(key) is int:
-                return self._named_ids['light'][key]
+            if type(name) is str:
+                return self._named['light'][name]
+            if type(name) is int:
+                return self._named_ids['light'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('light', key)
+        return self._accessor('light', name)
 
-    def flex(self, key):
-        """The flex named or numbered `key` (str or int): an accessor of its model fields."""
+    def flex(self, name=""):
+        """The flex named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['flex'][key]
-            if type(key) is int:
-                return self._named_ids['flex'][key]
+            if type(name) is str:
+                return self._named['flex'][name]
+            if type(name) is int:
+                return self._named_ids['flex'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('flex', key)
+        return self._accessor('flex', name)
 
-    def mesh(self, key):
-        """The mesh named or numbered `key` (str or int): an accessor of its model fields."""
+    def mesh(self, name=""):
+        """The mesh named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['mesh'][key]
-            if type(key) is int:
-                return self._named_ids['mesh'][key]
+            if type(name) is str:
+                return self._named['mesh'][name]
+            if type(name) is int:
+                return self._named_ids['mesh'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('mesh', key)
+        return self._accessor('mesh', name)
 
-    def skin(self, key):
-        """The skin named or numbered `key` (str or int): an accessor of its model fields."""
+    def skin(self, name=""):
+        """The skin named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['skin'][key]
-            if type(key) is int:
-                return self._named_ids['skin'][key]
+            if type(name) is str:
+                return self._named['skin'][name]
+            if type(name) is int:
+                return self._named_ids['skin'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('skin', key)
+        return self._accessor('skin', name)
 
-    def hfield(self, key):
-        """The hfield named or numbered `key` (str or int): an accessor of its model fields."""
+    def hfield(self, name=""):
+        """The hfield named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['hfield'][key]
-            if type(key) is int:
-                return self._named_ids['hfield'][key]
+            if type(name) is str:
+                return self._named['hfield'][name]
+            if type(name) is int:
+                return self._named_ids['hfield'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('hfield', key)
+        return self._accessor('hfield', name)
 
-    def tex(self, key):
-        """The tex named or numbered `key` (str or int): an accessor of its model fields."""
+    def tex(self, name=""):
+        """The tex named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['tex'][key]
-            if type(key) is int:
-                return self._named_ids['tex'][key]
+            if type(name) is str:
+                return self._named['tex'][name]
+            if type(name) is int:
+                return self._named_ids['tex'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('tex', key)
+        return self._accessor('tex', name)
 
     texture = tex
 
-    def mat(self, key):
-        """The mat named or numbered `key` (str or int): an accessor of its model fields."""
+    def mat(self, name=""):
+        """The mat named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['mat'][key]
-            if type(key) is int:
-                return self._named_ids['mat'][key]
+            if type(name) is str:
+                return self._named['mat'][name]
+            if type(name) is int:
+                return self._named_ids['mat'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('mat', key)
+        return self._accessor('mat', name)
 
     material = mat
 
-    def pair(self, key):
-        """The pair named or numbered `key` (str or int): an accessor of its model fields."""
+    def pair(self, name=""):
+        """The pair named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['pair'][key]
-            if type(key) is int:
-                return self._named_ids['pair'][key]
+            if type(name) is str:
+                return self._named['pair'][name]
+            if type(name) is int:
+                return self._named_ids['pair'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('pair', key)
+        return self._accessor('pair', name)
 
-    def exclude(self, key):
-        """The exclude named or numbered `key` (str or int): an accessor of its model fields."""
+    def exclude(self, name=""):
+        """The exclude named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['exclude'][key]
-            if type(key) is int:
-                return self._named_ids['exclude'][key]
+            if type(name) is str:
+                return self._named['exclude'][name]
+            if type(name) is int:
+                return self._named_ids['exclude'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('exclude', key)
+        return self._accessor('exclude', name)
 
-    def eq(self, key):
-        """The eq named or numbered `key` (str or int): an accessor of its model fields."""
+    def eq(self, name=""):
+        """The eq named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['eq'][key]
-            if type(key) is int:
-                return self._named_ids['eq'][key]
+            if type(name) is str:
+                return self._named['eq'][name]
+            if type(name) is int:
+                return self._named_ids['eq'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('eq', key)
+        return self._accessor('eq', name)
 
     equality = eq
 
-    def tendon(self, key):
-        """The tendon named or numbered `key` (str or int): an accessor of its model fields."""
+    def tendon(self, name=""):
+        """The tendon named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['tendon'][key]
-            if type(key) is int:
-                return self._named_ids['tendon'][key]
+            if type(name) is str:
+                return self._named['tendon'][name]
+            if type(name) is int:
+                return self._named_ids['tendon'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('tendon', key)
+        return self._accessor('tendon', name)
 
     ten = tendon
 
-    def actuator(self, key):
-        """The actuator named or numbered `key` (str or int): an accessor of its model fields."""
+    def actuator(self, name=""):
+        """The actuator named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['actuator'][key]
-            if type(key) is int:
-                return self._named_ids['actuator'][key]
+            if type(name) is str:
+                return self._named['actuator'][name]
+            if type(name) is int:
+                return self._named_ids['actuator'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('actuator', key)
+        return self._accessor('actuator', name)
 
-    def sensor(self, key):
-        """The sensor named or numbered `key` (str or int): an accessor of its model fields."""
+    def sensor(self, name=""):
+        """The sensor named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['sensor'][key]
-            if type(key) is int:
-                return self._named_ids['sensor'][key]
+            if type(name) is str:
+                return self._named['sensor'][name]
+            if type(name) is int:
+                return self._named_ids['sensor'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('sensor', key)
+        return self._accessor('sensor', name)
 
-    def numeric(self, key):
-        """The numeric named or numbered `key` (str or int): an accessor of its model fields."""
+    def numeric(self, name=""):
+        """The numeric named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['numeric'][key]
-            if type(key) is int:
-                return self._named_ids['numeric'][key]
+            if type(name) is str:
+                return self._named['numeric'][name]
+            if type(name) is int:
+                return self._named_ids['numeric'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('numeric', key)
+        return self._accessor('numeric', name)
 
-    def text(self, key):
-        """The text named or numbered `key` (str or int): an accessor of its model fields."""
+    def text(self, name=""):
+        """The text named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['text'][key]
-            if type(key) is int:
-                return self._named_ids['text'][key]
+            if type(name) is str:
+                return self._named['text'][name]
+            if type(name) is int:
+                return self._named_ids['text'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('text', key)
+        return self._accessor('text', name)
 
-    def tuple(self, key):
-        """The tuple named or numbered `key` (str or int): an accessor of its model fields."""
+    def tuple(self, name=""):
+        """The tuple named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['tuple'][key]
-            if type(key) is int:
-                return self._named_ids['tuple'][key]
+            if type(name) is str:
+                return self._named['tuple'][name]
+            if type(name) is int:
+                return self._named_ids['tuple'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('tuple', key)
+        return self._accessor('tuple', name)
 
-    def key(self, key):
-        """The key named or numbered `key` (str or int): an accessor of its model fields."""
+    def key(self, name=""):
+        """The key named or numbered `name` (str or int): an accessor of its model fields."""
         try:
-            if type(key) is str:
-                return self._named['key'][key]
-            if type(key) is int:
-                return self._named_ids['key'][key]
+            if type(name) is str:
+                return self._named['key'][name]
+            if type(name) is int:
+                return self._named_ids['key'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('key', key)
+        return self._accessor('key', name)
 
     keyframe = key
 
@@ -816,131 +848,131 @@ class MjModelNames:
 class MjDataNames:
     """The named-access methods of MjData: one per category, and aliases."""
 
-    def body(self, key):
-        """The body named or numbered `key` (str or int): an accessor of its data fields."""
+    def body(self, name=""):
+        """The body named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['body'][key]
-            if type(key) is int:
-                return self._named_ids['body'][key]
+            if type(name) is str:
+                return self._named['body'][name]
+            if type(name) is int:
+                return self._named_ids['body'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('body', key)
+        return self._accessor('body', name)
 
-    def jnt(self, key):
-        """The jnt named or numbered `key` (str or int): an accessor of its data fields."""
+    def jnt(self, name=""):
+        """The jnt named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['jnt'][key]
-            if type(key) is int:
-                return self._named_ids['jnt'][key]
+            if type(name) is str:
+                return self._named['jnt'][name]
+            if type(name) is int:
+                return self._named_ids['jnt'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('jnt', key)
+        return self._accessor('jnt', name)
 
     joint = jnt
 
-    def geom(self, key):
-        """The geom named or numbered `key` (str or int): an accessor of its data fields."""
+    def geom(self, name=""):
+        """The geom named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['geom'][key]
-            if type(key) is int:
-                return self._named_ids['geom'][key]
+            if type(name) is str:
+                return self._named['geom'][name]
+            if type(name) is int:
+                return self._named_ids['geom'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('geom', key)
+        return self._accessor('geom', name)
 
-    def site(self, key):
-        """The site named or numbered `key` (str or int): an accessor of its data fields."""
+    def site(self, name=""):
+        """The site named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['site'][key]
-            if type(key) is int:
-                return self._named_ids['site'][key]
+            if type(name) is str:
+                return self._named['site'][name]
+            if type(name) is int:
+                return self._named_ids['site'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('site', key)
+        return self._accessor('site', name)
 
-    def cam(self, key):
-        """The cam named or numbered `key` (str or int): an accessor of its data fields."""
+    def cam(self, name=""):
+        """The cam named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['cam'][key]
-            if type(key) is int:
-                return self._named_ids['cam'][key]
+            if type(name) is str:
+                return self._named['cam'][name]
+            if type(name) is int:
+                return self._named_ids['cam'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('cam', key)
+        return self._accessor('cam', name)
 
     camera = cam
 
-    def light(self, key):
-        """The light named or numbered `key` (str or int): an accessor of its data fields."""
+    def light(self, name=""):
+        """The light named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['light'][key]
-            if type(key) is int:
-                return self._named_ids['light'][key]
+            if type(name) is str:
+                return self._named['light'][name]
+            if type(name) is int:
+                return self._named_ids['light'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('light', key)
+        return self._accessor('light', name)
 
-    def flex(self, key):
-        """The flex named or numbered `key` (str or int): an accessor of its data fields."""
+    def flex(self, name=""):
+        """The flex named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['flex'][key]
-            if type(key) is int:
-                return self._named_ids['flex'][key]
+            if type(name) is str:
+                return self._named['flex'][name]
+            if type(name) is int:
+                return self._named_ids['flex'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('flex', key)
+        return self._accessor('flex', name)
 
-    def eq(self, key):
-        """The eq named or numbered `key` (str or int): an accessor of its data fields."""
+    def eq(self, name=""):
+        """The eq named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['eq'][key]
-            if type(key) is int:
-                return self._named_ids['eq'][key]
+            if type(name) is str:
+                return self._named['eq'][name]
+            if type(name) is int:
+                return self._named_ids['eq'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('eq', key)
+        return self._accessor('eq', name)
 
     equality = eq
 
-    def tendon(self, key):
-        """The tendon named or numbered `key` (str or int): an accessor of its data fields."""
+    def tendon(self, name=""):
+        """The tendon named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['tendon'][key]
-            if type(key) is int:
-                return self._named_ids['tendon'][key]
+            if type(name) is str:
+                return self._named['tendon'][name]
+            if type(name) is int:
+                return self._named_ids['tendon'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('tendon', key)
+        return self._accessor('tendon', name)
 
     ten = tendon
 
-    def actuator(self, key):
-        """The actuator named or numbered `key` (str or int): an accessor of its data fields."""
+    def actuator(self, name=""):
+        """The actuator named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['actuator'][key]
-            if type(key) is int:
-                return self._named_ids['actuator'][key]
+            if type(name) is str:
+                return self._named['actuator'][name]
+            if type(name) is int:
+                return self._named_ids['actuator'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('actuator', key)
+        return self._accessor('actuator', name)
 
-    def sensor(self, key):
-        """The sensor named or numbered `key` (str or int): an accessor of its data fields."""
+    def sensor(self, name=""):
+        """The sensor named or numbered `name` (str or int): an accessor of its data fields."""
         try:
-            if type(key) is str:
-                return self._named['sensor'][key]
-            if type(key) is int:
-                return self._named_ids['sensor'][key]
+            if type(name) is str:
+                return self._named['sensor'][name]
+            if type(name) is int:
+                return self._named_ids['sensor'][name]
         except (KeyError, AttributeError):
             pass
-        return self._accessor('sensor', key)
+        return self._accessor('sensor', name)

@@ -4,7 +4,13 @@ MjModel and MjData have one method per name category (mjcffi/_namedinfo.py,
 generated from mjModel's name_*adr fields), taking a name or an id.  It
 returns an accessor whose attributes are the element's fields, as zero-copy
 views; writes go through to C.  Ragged fields follow the element's own size
-(a free joint's qpos has 7 entries, a sensor's data `sensor_dim`).
+(a free joint's qpos has 7 entries, a sensor's data `sensor_dim`, an
+actuator's ctrl `actuator_ctrlnum`).
+
+Each (side, category) pair has its own accessor class, named as the official
+bindings name theirs (`_MjModelGeomViews`), made on first use.  Its fields are
+class-level descriptors that cache the view in the instance on first read, so
+a later read is a plain attribute read.
 
 Names are mapped to ids once per model and category; accessors are cached on
 their owner, so a repeated `d.joint('j').qpos` is two dict lookups and an
@@ -16,53 +22,118 @@ import difflib
 
 import numpy as np
 
+from ._errors import with_note
 from ._library import ffi
 from ._namedinfo import ALIASES, CATEGORIES, MjDataNames, MjModelNames
 from ._views import DTYPES, view
 
-__all__ = ["Accessor", "MjDataNames", "MjModelNames", "NamedAccess"]
+__all__ = ["Accessor", "MjDataNames", "MjModelNames", "NamedAccess", "accessor_class"]
 
 
 class Accessor:
     """One named element: its fields as attributes, plus `id` and `name`.
 
-    Attributes are built on first read and then cached.  Assigning to one
-    writes into the C array (`m.geom('g').rgba = [1, 0, 0, 1]`).
+    The base of the accessor classes (see accessor_class).  Attributes are
+    built on first read and then cached.  Assigning to one writes into the C
+    array (`m.geom('g').rgba = [1, 0, 0, 1]`).
     """
 
-    def __init__(self, side, category, element_id, name, pointer, root, model):
-        state = self.__dict__
-        state.update(id=element_id, name=name, _side=side, _category=category,
-                     _pointer=pointer, _root=root, _m=model)
-        state["_fields"] = {f.attr: f for f in getattr(CATEGORIES[category], side)}
+    _side = _category = None
+    _fields: dict = {}                 # attribute -> _namedinfo.Field, per class
 
-    def __getattr__(self, attr):
-        field = self.__dict__.get("_fields", {}).get(attr)
-        if field is None:
-            raise AttributeError(f"{self._category} accessor has no field {attr!r}; "
-                                 f"fields: {', '.join(sorted(self._fields))}")
-        value = _build(self, field)
-        if field.kind != "dense":             # a dense copy is rebuilt on every read
-            self.__dict__[attr] = value
-        return value
+    def __init__(self, element_id, name, pointer, root, model):
+        self.__dict__.update(id=element_id, name=name, _pointer=pointer, _root=root, _m=model)
+
+    def __getattr__(self, attr):       # reached only for attributes no field provides
+        exc = AttributeError(f"'{type(self).__name__}' object has no attribute {attr!r}",
+                             name=attr, obj=self)
+        if not attr.startswith("__"):
+            with_note(exc, f"the fields of {_label(self._category)}: "
+                      f"{', '.join(sorted(a for a in self._fields if a[0] != '_'))}")
+        raise exc
 
     def __setattr__(self, attr, value):
-        if attr not in self._fields or self._fields[attr].kind == "dense":
-            raise AttributeError(f"{self._category} accessor field {attr!r} cannot be assigned")
+        field = self._fields.get(attr)
+        if field is None or field.kind == "dense":
+            raise _no_such_property(self, attr, "setter")
         target = getattr(self, attr)
         try:
             target[...] = value
         except (ValueError, TypeError) as exc:
-            raise type(exc)(f"cannot assign to {self._category} {attr} of shape "
-                            f"{target.shape}: {exc}") from None
+            raise with_note(exc, f"{_label(self._category)} {attr!r} has shape {target.shape}")
+
+    def __delattr__(self, attr):
+        raise _no_such_property(self, attr, "deleter")
 
     def __dir__(self):
-        return sorted(set(self._fields) | {"id", "name"})
+        return sorted(set(dir(type(self))) | {"id", "name"})
 
     def __repr__(self):
-        owner = "MjModel" if self._side == "model" else "MjData"
-        return f"<{owner} {self._category} {self.name!r} (id {self.id})>"
+        attrs = sorted(a for a in {*self._fields, "id", "name"} if a[0] != "_")
+        lines = [f"<{type(self).__name__}"]
+        lines += [f"  {attr}: {getattr(self, attr)!r}" for attr in attrs]
+        return "\n".join(lines + [">"])
 
+
+def _no_such_property(acc, attr, what):
+    """The AttributeError of a write or delete of `attr` (as the official words it)."""
+    owner = type(acc).__name__
+    if attr in acc._fields or attr in ("id", "name"):
+        return AttributeError(f"property of '{owner}' object has no {what}")
+    return AttributeError(f"'{owner}' object has no attribute {attr!r}", name=attr, obj=acc)
+
+
+class _FieldView:
+    """A field of an accessor class: built on first read, then cached in the
+    instance, which a non-data descriptor lets win over the class."""
+
+    __slots__ = ("field",)
+
+    def __init__(self, field):
+        self.field = field
+
+    def __get__(self, acc, owner=None):
+        if acc is None:
+            return self
+        field = self.field
+        value = _build(acc, field)
+        if field.kind != "dense":             # a dense copy is rebuilt on every read
+            acc.__dict__[field.attr] = value
+        return value
+
+
+_CLASSES: dict = {}                     # (side, category) -> accessor class
+
+
+def accessor_class(side, category):
+    """The accessor class of one category's `side` ('model' or 'data') fields,
+    named as the official bindings name theirs (_MjModelGeomViews)."""
+    cls = _CLASSES.get((side, category))
+    if cls is None:
+        fields = {f.attr: f for f in getattr(CATEGORIES[category], side)}
+        owner = "MjModel" if side == "model" else "MjData"
+        name = f"_{owner}{_long_name(category).capitalize()}Views"
+        namespace = {attr: _FieldView(f) for attr, f in fields.items()}
+        namespace.update(
+            __doc__=f"The {side} fields of one {_long_name(category)} "
+                    f"({owner}.{category}(name or id)), as zero-copy views.",
+            __module__=__name__, __qualname__=name,
+            _side=side, _category=category, _fields=fields)
+        cls = _CLASSES[side, category] = type(name, (Accessor,), namespace)
+    return cls
+
+
+def _long_name(category):
+    """The category's long name (jnt: joint), which the official class names use."""
+    return max(category, ALIASES.get(category, category), key=len)
+
+
+def _label(category):
+    alias = ALIASES.get(category)
+    return f"{category} ({alias})" if alias else category
+
+
+# ------------------------------------------------------------- field views
 
 def _build(acc, field):
     """The view (or, for a dense row, the copy) of one field of one element."""
@@ -73,6 +144,9 @@ def _build(acc, field):
     kind = field.kind
     if kind == "row":
         return view(pointer + i * columns, dtype, (columns,), acc._root)
+    if kind == "rows":
+        adr, num = (getattr(m, name)[i] for name in field.params)
+        return view(pointer + adr * columns, dtype, _rows_shape(num, columns), acc._root)
     if kind in ("qpos", "dof"):
         adr, width = _joint_span(m, i, kind)
         shape = (width,) if columns == 1 else (width, columns)
@@ -89,13 +163,34 @@ def _build(acc, field):
         adr, width = _plastic_span(m, i, field.params[0])
         return view(pointer + max(adr, 0), dtype, (width,), acc._root)
     if kind == "dense":
-        rowadr, rownnz, colind = (getattr(acc._pointer, name) for name in field.params)
-        dense = np.zeros(m.nv)
-        start, count = rowadr[i], rownnz[i]
-        for k in range(start, start + count):
-            dense[colind[k]] = pointer[k]
-        return dense
+        return _dense(acc, field, pointer, dtype)
     raise ValueError(f"unknown kind of named field {kind!r}")
+
+
+def _rows_shape(num, columns):
+    """An actuator's `num` rows of a field: a single row keeps the shape of one
+    row, as in the official bindings (a motor's gear is (6,), not (1, 6))."""
+    if num == 1:
+        return (columns,)
+    return (num,) if columns == 1 else (num, columns)
+
+
+def _dense(acc, field, values, dtype):
+    """An element's rows of a sparse matrix (actuator_moment), dense and read-only."""
+    m, i = acc._m, acc.id
+    adr_name, num_name, rowadr_name, rownnz_name, colind_name = field.params
+    adr, num = getattr(m, adr_name)[i], getattr(m, num_name)[i]
+    rowadr, rownnz, colind = (getattr(acc._pointer, name)
+                              for name in (rowadr_name, rownnz_name, colind_name))
+    dense = np.zeros((num, m.nv), dtype)
+    for row in range(num):
+        start = rowadr[adr + row]
+        for k in range(start, start + rownnz[adr + row]):
+            dense[row, colind[k]] = values[k]
+    if num == 1:
+        dense = dense[0]
+    dense.flags.writeable = False
+    return dense
 
 
 _QPOS_WIDTH = {0: 7, 1: 4}      # mjJNT_FREE, mjJNT_BALL; slide and hinge take 1
@@ -143,19 +238,7 @@ class NamedAccess:
 
     def _accessor(self, category, key):
         model = self if self._cname == "mjModel" else self._model
-        count = getattr(model._ptr, CATEGORIES[category].size)
-        if isinstance(key, str):
-            element_id = _names(model, category).get(key)
-            if element_id is None:
-                raise KeyError(_unknown_name(model, category, key))
-        elif isinstance(key, (bool, np.bool_)) or not hasattr(key, "__index__"):
-            raise TypeError(f"{category}() takes a name (str) or an id (int), "
-                            f"not {type(key).__name__}")
-        else:
-            element_id = key.__index__()
-            if not 0 <= element_id < count:
-                raise IndexError(f"{category} id {element_id} is out of range: the model has "
-                                 f"{count} (ids 0 to {count - 1})")
+        element_id = _element_id(model, category, key)
         # The generated methods look in these first, by the key's exact type
         # (a float or a bool equal to an id must not find it).
         by_id = self.__dict__.setdefault("_named_ids", {}).setdefault(category, {})
@@ -163,11 +246,36 @@ class NamedAccess:
         if accessor is None:
             name = _name_of(model, category, element_id)
             side = "model" if self is model else "data"
-            accessor = by_id[element_id] = Accessor(side, category, element_id, name,
-                                                    self._ptr, self._root, model._ptr)
+            cls = accessor_class(side, category)
+            accessor = by_id[element_id] = cls(element_id, name, self._ptr, self._root,
+                                               model._ptr)
             if name:
                 self.__dict__.setdefault("_named", {}).setdefault(category, {})[name] = accessor
         return accessor
+
+
+def _element_id(model, category, key):
+    """The id that `key` (a name or an id) names, with the official errors."""
+    if isinstance(key, bytes):                    # the official bindings take bytes too
+        key = key.decode("utf-8")
+    if isinstance(key, str):
+        element_id = _names(model, category).get(key)
+        if element_id is None:
+            raise with_note(KeyError(f"Invalid name {key!r}. "
+                                     f"Valid names: {sorted(_names(model, category))}"),
+                            _unknown_name(model, category, key))
+        return element_id
+    if isinstance(key, (bool, np.bool_)) or not hasattr(key, "__index__"):
+        raise TypeError(f"{category}() takes a name (str) or an id (int), "
+                        f"not {type(key).__name__}")
+    element_id = key.__index__()
+    count = getattr(model._ptr, CATEGORIES[category].size)
+    if not 0 <= element_id < count:
+        raise with_note(IndexError(f"Invalid index {element_id}. "
+                                   f"Valid indices from 0 to {count - 1}"),
+                        f"{_label(category)} id {element_id} is out of range: "
+                        f"the model has {count}")
+    return element_id
 
 
 def _name_of(model, category, element_id):
@@ -181,6 +289,4 @@ def _unknown_name(model, category, key):
     close = difflib.get_close_matches(key, known, n=3)
     hint = f"; did you mean {', '.join(map(repr, close))}?" if close else \
         f"; the model has {len(known)} named" if known else "; the model names none"
-    alias = ALIASES.get(category)
-    label = f"{category} ({alias})" if alias else category
-    return f"no {label} named {key!r}{hint}"
+    return f"no {_label(category)} named {key!r}{hint}"
