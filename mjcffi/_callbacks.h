@@ -20,3 +20,8 @@ extern "Python" {
   mjtNum mjcffi_py_mjcb_act_gain(const mjModel* m, const mjData* d, int id);
   mjtNum mjcffi_py_mjcb_act_bias(const mjModel* m, const mjData* d, int id);
 }
+
+/* The Python side of the legacy mju_user_warning handler (mjcffi/user_handlers.py). */
+extern "Python" {
+  void mjcffi_py_mju_user_warning(const char* msg);
+}

@@ -22,3 +22,17 @@ int mjcffi_step(const mjModel* m, mjData* d, int nstep);
    memory.  Returns 0, or 1 when the sizes do not match dest. */
 int mjcffi_restore_data(mjData* dest, const char* header, const char* buffer,
                         const char* arena, size_t arena_used);
+
+/* Lay out the arena arrays of d (made for m) as MuJoCo does: ncon contacts, nefc constraint
+   rows with nJ Jacobian entries (nJ -1: keep d->nJ), and their dual-solver rows when m's
+   solver is dual; every other arena array is dropped.  0, or 1 when the arena is too small
+   (or a count negative): then the arena is empty and every row count 0. */
+int mjcffi_realloc_con_efc(const mjModel* m, mjData* d, int ncon, int nefc, int nJ);
+
+/* Lay out d's island arrays for nisland islands over nidof dofs, reusing the old island
+   block when nothing follows it in the arena, else after everything.  0, or 1 when the
+   arena is too small (or a count negative): then no island arrays, nisland = nidof = 0. */
+int mjcffi_realloc_island(const mjModel* m, mjData* d, int nisland, int nidof);
+
+/* An mjfTime: CLOCK_MONOTONIC in seconds, for mjcb_time (no Python, no GIL per call). */
+mjtNum mjcffi_timer(void);

@@ -24,6 +24,9 @@ For each global `mjcb_foo` there is `set_mjcb_foo(callback)` and
   `lib.f` itself is a Python callable, and would be called as one.
 - None: the global is set back to NULL (MuJoCo's default behavior).
 
+Anything else is a TypeError, with the official message as its text
+("callback is not an Optional[Callable]") and what is accepted in a note.
+
 While installed, the object is referenced here, so the memory behind a
 trampoline, a `ffi.callback` or a `CFUNCTYPE` cannot go away; replacing or
 clearing it drops that reference.  Do not replace a callback while another
@@ -38,9 +41,19 @@ both bindings (`set_mjcb_time(None)` removes it).  `get_mjcb_foo()` only knows
 what mjcffi installed: it returns that object while the global still holds it,
 and None otherwise, whatever the global then holds.
 
+The timer.  MuJoCo's profiler fills `d.timer` from mjcb_time; with the global
+NULL (mjcffi's default) it counts calls but measures no time.  The official
+bindings install a timer at import; mjcffi does not, because the profiler calls
+it 32 times per step on a one-hinge pendulum (114 on the humanoid), which made
+that step about 1.8 times as slow (some 620 ns more; about 2 % on the humanoid).
+`install_timer()` installs mjcffi's own C timer (CLOCK_MONOTONIC, in seconds,
+no Python and no GIL per call), with which `d.timer` durations are filled as
+under the official bindings.
+
 Exceptions.  A Python exception cannot cross MuJoCo's C frames.  When a Python
-callback raises (or returns a value of the wrong type), MuJoCo receives a
-neutral value instead: nothing for the void callbacks, 0 ("keep this pair") for
+callback raises (or returns a value of the wrong type: a TypeError with the
+official text, such as "mjcb_time callback did not return a number"), MuJoCo
+receives a neutral value instead: nothing for the void callbacks, 0 ("keep this pair") for
 mjcb_contactfilter, 0.0 for mjcb_time and mjcb_act_*.  The MuJoCo call goes
 on to its end, calling the callback again as needed, and the *first* such
 exception is stashed for the thread that called MuJoCo; later ones are
@@ -59,6 +72,7 @@ import sys
 import threading
 import weakref
 
+from ._errors import with_note
 from ._library import ffi, lib
 
 __all__ = [
@@ -66,7 +80,7 @@ __all__ = [
     "set_mjcb_contactfilter", "get_mjcb_contactfilter", "set_mjcb_sensor", "get_mjcb_sensor",
     "set_mjcb_time", "get_mjcb_time", "set_mjcb_act_dyn", "get_mjcb_act_dyn",
     "set_mjcb_act_gain", "get_mjcb_act_gain", "set_mjcb_act_bias", "get_mjcb_act_bias",
-    "raise_pending_callback_error",
+    "raise_pending_callback_error", "install_timer",
 ]
 
 
@@ -167,21 +181,24 @@ def _stasher(name):
             if first:
                 _errors[key] = error.with_traceback(traceback)
             _pending = True
-        if first and hasattr(error, "add_note") and note not in getattr(error, "__notes__", ()):
-            error.add_note(note)                        # Python >= 3.11
+        if first and note not in getattr(error, "__notes__", ()):
+            with_note(error, note)
     return stash
 
 
 # ---------------------------------------------------------------- the slots
 
 class _Slot:
-    """One mjcb_* global: its type, its trampoline, what mjcffi put there."""
+    """One global function pointer of libmujoco (an mjcb_* callback, an mju_user_*
+    handler): its type, its trampoline, what mjcffi put there.  A slot made with
+    python=False takes C function pointers only (mju_user_malloc: a Python
+    allocator could not hand MuJoCo memory that outlives the call safely)."""
     __slots__ = ("name", "ctype", "trampoline", "fn", "obj", "installed")
 
-    def __init__(self, name):
+    def __init__(self, name, python=True):
         self.name = name
         self.ctype = ffi.typeof(getattr(lib, name))
-        self.trampoline = getattr(lib, "mjcffi_py_" + name)
+        self.trampoline = getattr(lib, "mjcffi_py_" + name) if python else None
         self.fn = None            # the Python callable the trampoline calls
         self.obj = None           # what the user gave, kept alive while installed
         self.installed = None     # the pointer written into the global
@@ -224,16 +241,23 @@ def _contactfilter(name):
         try:
             return 1 if operator.index(result) else 0
         except TypeError:
-            raise TypeError(f"{name} must return an int (nonzero: discard the pair), "
-                            f"not {type(result).__name__}") from None
+            raise with_note(TypeError(f"{name} callback did not return an integer"),
+                            f"it returned {type(result).__name__}; an int, nonzero to "
+                            f"discard the pair, is needed") from None
     return _attach(slot, call)
 
 
 def _number(name, result):
-    try:
-        return float(result)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must return a number, not {type(result).__name__}") from None
+    """`result` as MuJoCo's mjtNum: a number (__float__ or __index__), not a string."""
+    if type(result) is float:
+        return result
+    if not isinstance(result, (str, bytes, bytearray)):
+        try:
+            return float(result)
+        except (TypeError, ValueError):
+            pass
+    raise with_note(TypeError(f"{name} callback did not return a number"),
+                    f"it returned {type(result).__name__}")
 
 
 def _time(name):
@@ -309,16 +333,26 @@ def _set(slot, callback):
         pointer = _from_cffi(slot, callback)
     elif ctypes is not None and isinstance(callback, ctypes._CFuncPtr):
         pointer = _from_ctypes(slot, callback, ctypes)
-    elif callable(callback):
+    elif callable(callback) and slot.trampoline is not None:
         pointer, fn = slot.trampoline, callback
         slot.fn = fn                       # before MuJoCo can reach the trampoline
     else:
-        raise TypeError(f"{slot.name} must be a callable, a C function pointer or None, "
-                        f"not {type(callback).__name__}")
+        raise _refused(slot, callback)
     setattr(lib, slot.name, pointer)
     # only now that MuJoCo no longer sees the old one, let it go
     slot.fn, slot.obj = fn, callback
     slot.installed = None if callback is None else pointer
+
+
+def _refused(slot, callback):
+    """The TypeError for what `_set` cannot install: the official message, ours in a note."""
+    if slot.trampoline is None:
+        return with_note(TypeError(f"{slot.name} must be a C function pointer"),
+                         f"got {type(callback).__name__}; pass a cffi pointer of type "
+                         f"{slot.ctype.cname}, a ctypes CFUNCTYPE object, or None")
+    return with_note(TypeError("callback is not an Optional[Callable]"),
+                     f"{slot.name} takes a Python callable, a C function pointer (cffi, of type "
+                     f"{slot.ctype.cname}, or ctypes) or None, not {type(callback).__name__}")
 
 
 def _get(slot):
@@ -376,6 +410,18 @@ def set_mjcb_time(callback):
 def get_mjcb_time():
     """The mjcb_time that mjcffi installed, while still installed; else None."""
     return _get(_TIME)
+
+
+def install_timer() -> None:
+    """Install mjcffi's C timer as mjcb_time, so that `d.timer` measures durations.
+
+    The timer reads CLOCK_MONOTONIC in seconds, in C: MuJoCo's profiler calls
+    it dozens of times per step with no Python and no GIL in between.  It is
+    not installed by default, because those calls cost about 20 ns each (1.8
+    times the step time on a one-hinge pendulum).  `set_mjcb_time(None)`
+    removes it; `get_mjcb_time()` returns the pointer while it is installed.
+    """
+    _set(_TIME, ffi.addressof(lib, "mjcffi_timer"))
 
 
 def set_mjcb_act_dyn(callback):
