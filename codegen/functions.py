@@ -160,6 +160,146 @@ KEEP = {
     "mju_bandMulMatVec": ("ntotal", "nvec"),
 }
 
+# The official bindings' own messages for a wrong argument, by function and C
+# argument name: where mjcffi refuses the same argument, str(exc) is this (the
+# expected shape goes in a note).  A str applies to any axis; for a matrix,
+# ((axis, message), ...) lists the axes in the order the official bindings check
+# them (an axis not listed gets mjcffi's own message).  Arrays listed here are
+# checked first, in this order, so that a call with one wrong argument blames
+# the argument the official bindings blame.  Ids (IDS) and kept sizes (KEEP)
+# take their message from here too.
+_SAME = "{} and {} should have the same size"
+_JAC = {"jacp": "jacp should be of shape (3, nv)", "jacr": "jacr should be of shape (3, nv)"}
+_NV = {"res": "res should be of size nv", "vec": "vec should be of size nv"}
+_BAND = "mat must have size (ntotal-ndense)*nband + ndense*ntotal"
+_PYRAMID = {"mu": "size of pyramid should be twice as large as size of mu",
+            "pyramid": "size of pyramid should be twice as large as size of mu",
+            "force": "size of force should be exactly one larger than size of mu"}
+_SOLVE = {"x": ((0, "the first dimension of x and y should be of the same size"),
+                (1, "the last dimension of x should be of size nv")),
+          "y": ((1, "the last dimension of y should be of size nv"),)}
+MESSAGES = {
+    "mj_solveM": _SOLVE,
+    "mj_solveM2": {**_SOLVE, "sqrtInvD": "the size of sqrtInvD should be nv"},
+    "mj_rne": {"result": "result should have length nv"},
+    "mj_constraintUpdate": {"jar": "size of jar should equal nefc"},
+    "mj_getState": {"state": "state size should equal mj_stateSize(m, sig)"},
+    "mj_setState": {"state": "state size should equal mj_stateSize(m, sig)"},
+    "mj_extractState": {"src": "src size should equal mj_stateSize(m, srcsig)",
+                        "dst": "dst size should equal mj_stateSize(m, dstsig)"},
+    "mj_readCtrl": {"id": "actuator id out of range",
+                    "result": "result should have length actuator_ctrlnum[id]"},
+    "mj_readSensor": {"id": "sensor id out of range",
+                      "result": "result should have length sensor_dim[id]"},
+    "mj_initCtrlHistory": {
+        "id": "actuator id out of range",
+        "times": "times should have length actuator_history[2*id]",
+        "values": "values should have shape (actuator_history[2*id], actuator_ctrlnum[id])"},
+    "mj_initSensorHistory": {
+        "id": "sensor id out of range",
+        "times": "times should have length sensor_history[2*id]",
+        "values": "values should have shape (sensor_history[2*id], sensor_dim[id])"},
+    "mj_mulJacVec": {"res": "res should be of length nefc", "vec": "vec should be of length nv"},
+    "mj_mulJacTVec": {"res": "res should be of length nv", "vec": "vec should be of length nefc"},
+    **{name: _JAC for name in ("mj_jac", "mj_jacBody", "mj_jacBodyCom", "mj_jacGeom",
+                               "mj_jacSite", "mj_jacDot")},
+    "mj_jacSubtreeCom": {"jacp": _JAC["jacp"]},
+    "mj_jacPointAxis": {"jacPoint": _JAC["jacp"], "jacAxis": _JAC["jacr"]},
+    "mj_angmomMat": {"mat": "mat should be of shape (3, nv)"},
+    "mj_fullM": {"dst": "dst should be of shape (nv, nv)"},
+    "mj_mulM": _NV,
+    "mj_mulM2": _NV,
+    "mj_applyFT": {"qfrc_target": "qfrc_target should be of size nv"},
+    "mj_geomDistance": {"fromto": "fromto should be of size 6"},
+    "mj_differentiatePos": {"qvel": "qvel should be of size nv",
+                            "qpos1": "qpos1 should be of size nq",
+                            "qpos2": "qpos2 should be of size nq"},
+    "mj_integratePos": {"qpos": "qpos should be of size nq", "qvel": "qvel should be of size nv"},
+    "mj_normalizeQuat": {"qpos": "qpos should be of size nq"},
+    "mj_multiRay": {"vec": "vec should be of size 3*nray",
+                    "normal": "normal should be of size 3*nray",
+                    "geomid": "dist and geomid should be of size nray",
+                    "dist": "dist and geomid should be of size nray"},
+    "mju_raySkin": {"nface": "nface and nvert must be non-negative",
+                    "nvert": "nface and nvert must be non-negative",
+                    "face": "face should be of size 3*nface",
+                    "vert": "vert should be of size 3*nvert"},
+    "mju_copy": {"res": _SAME.format("res", "data"), "vec": _SAME.format("res", "data")},
+    **{name: {"res": _SAME.format("res", "vec"), "vec": _SAME.format("res", "vec")} for name in (
+        "mju_scl", "mju_addTo", "mju_subFrom", "mju_addToScl", "mju_f2n", "mju_n2f",
+        "mju_d2n", "mju_n2d")},
+    **{name: {"res": _SAME.format("res", "vec1"), "vec2": _SAME.format("res", "vec2")}
+       for name in ("mju_add", "mju_sub", "mju_addScl")},
+    "mju_dot": {"vec2": _SAME.format("vec1", "vec2")},
+    "mju_mulMatVec": {"mat": ((0, "size of res should equal the number of rows in mat"),
+                              (1, "size of vec should equal the number of columns in mat"))},
+    "mju_mulMatTVec": {"mat": ((1, "size of res should equal the number of columns in mat"),
+                               (0, "size of vec should equal the number of rows in mat"))},
+    "mju_mulVecMatVec": {"vec2": "size of vec1 should equal the size of vec2",
+                         "mat": "size of vectors should equal the number of columns in mat"},
+    "mju_transpose": {"res": ((1, "#columns in res should equal #rows in mat"),)},
+    "mju_symmetrize": {"mat": "mat should be square", "res": "res and mat should have the same shape"},
+    "mju_eye": {"mat": "mat should be square"},
+    "mju_mulMatMat": {"res": ((0, "#rows in res should equal #rows in mat1"),
+                              (1, "#columns in res should equal #columns in mat2")),
+                      "mat2": ((0, "#columns in mat1 should equal #rows in mat2"),)},
+    "mju_mulMatMatT": {"res": ((0, "#rows in res should equal #rows in mat1"),
+                               (1, "#columns in res should equal #rows in mat2")),
+                       "mat2": ((1, "#columns in mat1 should equal #columns in mat2"),)},
+    "mju_mulMatTMat": {"res": ((0, "#rows in res should equal #columns in mat1"),
+                               (1, "#columns in res should equal #columns in mat2")),
+                       "mat2": ((0, "#rows in mat1 should equal #rows in mat2"),)},
+    "mju_sqrMatTD": {"res": "#rows in res should equal #columns in mat",
+                     "diag": "size of diag should equal the number of rows in mat"},
+    "mju_dense2sparse": {"mat": ((0, "#rows in mat should equal size of rownnz"),),
+                         "rowadr": "#rows in mat should equal size of rowadr",
+                         "colind": "#size of res should equal size of colind"},
+    "mju_cholFactor": {"mat": "mat should be a square matrix"},
+    "mju_cholSolve": {"mat": "mat should be a square matrix",
+                      "res": "size of res should equal the number of rows in mat",
+                      "vec": "size of vec should equal the number of rows in mat"},
+    "mju_cholUpdate": {"mat": "mat should be a square matrix",
+                       "x": "size of x should equal the number of rows in mat"},
+    "mju_cholFactorBand": {"mat": _BAND},
+    "mju_cholSolveBand": {"res": "size of res should equal ntotal",
+                          "mat": "mat must have (ntotal-ndense)*nband + ndense*ntotal elements",
+                          "vec": "size of vec should equal ntotal"},
+    "mju_band2Dense": {"res": ((0, "res should have ntotal rows"),
+                               (1, "res should have ntotal columns")), "mat": _BAND},
+    "mju_dense2Band": {"res": "res must have size (ntotal-ndense)*nband + ndense*ntotal",
+                       "mat": ((0, "mat should have ntotal rows"),
+                               (1, "mat should have ntotal columns"))},
+    "mju_encodePyramid": _PYRAMID,
+    "mju_decodePyramid": _PYRAMID,
+    "mjd_inverseFD": {name: f"{name} should be of shape (nv, {cols})" for name, cols in (
+        ("DfDq", "nv"), ("DfDv", "nv"), ("DfDa", "nv"), ("DsDq", "nsensordata"),
+        ("DsDv", "nsensordata"), ("DsDa", "nsensordata"), ("DmDq", "nC"))},
+    "mju_boxQP": {"R": "size of R should be n*(n+7)"},
+    "mjd_subQuat": {"qa": "qa must have size 4", "qb": "qb must have size 4",
+                    "Da": "Da must have size 9", "Db": "Db must have size 9"},
+}
+
+# Arrays that the official bindings check by their number of elements alone:
+# any shape of that size is taken (mju_raySkin's face may be (nface, 3) or flat).
+SIZED = {
+    "mju_raySkin": ("face", "vert"),
+    "mj_multiRay": ("vec", "normal"),
+    "mj_solveM2": ("sqrtInvD",),
+    "mj_geomDistance": ("fromto",),
+    "mjd_subQuat": ("Da", "Db"),
+    "mju_bandMulMatVec": ("res", "vec"),
+    "mju_boxQP": ("R",),
+}
+
+# Arrays that give the sizes they hold before any other (as the official
+# bindings read them): the other arrays are then blamed for a mismatch.
+BIND = {
+    "mju_symmetrize": ("mat",),
+    "mju_sqrMatTD": ("mat",),
+    "mju_cholSolve": ("mat",),
+    "mju_cholUpdate": ("mat",),
+}
+
 # Ids that MuJoCo follows without a bounds check: argument -> (lowest, count).
 IDS = {
     **{name: {"body": (0, "m.nbody")} for name in (
@@ -188,7 +328,7 @@ CHECKS = {
     "mju_printMatSparse": ["csr(rownnz, rowadr, colind, min(mat.size, colind.size), None)"],
     "mju_sparse2dense": ["csr(rownnz, rowadr, colind, min(mat.size, colind.size), nc)"],
     "mju_sym2dense": ["csr(rownnz, rowadr, colind, min(mat.size, colind.size), n)"],
-    "mju_raySkin": ["below(face, nvert, 'face')"],
+    "mju_raySkin": ["below(face, nvert, 'face', 'face vertex index out of bounds')"],
     "mj_addM": ["require(rownnz is None and rowadr is None and colind is None, "
                 "'mj_addM: only the dense form (rownnz, rowadr, colind None) is supported: "
                 "MuJoCo follows a given sparse structure unchecked')"],
@@ -218,8 +358,8 @@ ERRORS = {
 # Results that need more than the generic rule: a Python expression over
 # `ret` (the C result) and the converted arguments.
 RETURNS = {
-    "mj_readCtrl": "copy_array(ret, m.actuator_ctrlnum[id], NUM) if ret != NULL else result",
-    "mj_readSensor": "copy_array(ret, m.sensor_dim[id], NUM) if ret != NULL else result",
+    "mj_readCtrl": "fill(result, ret, m.actuator_ctrlnum[id])",     # the value lands in result
+    "mj_readSensor": "fill(result, ret, m.sensor_dim[id])",
     "mjs_getTimer": "copy_array(ret, mjNCTIMER, NUM)",
     "mj_copyData": "None",                     # returns dest, as the official bindings: None
     "mj_stackAllocNum": "ret",                 # raw pointers into the mjData stack
@@ -271,6 +411,9 @@ OVERRIDES = {
     "mjr_findRect": "rect is one MjrRect or a sequence of them",
     "mj_defaultVFS": "resets the VFS, freeing what it held (an MjVFS owns its memory)",
     "mj_deleteVFS": "empties the VFS, which stays usable (an MjVFS frees it when collected)",
+    "mju_getLogConfig": "returns the public MjLogConfig class, which has get() and set()",
+    "mju_getXMLDependencies": "mju_getXMLDependencies(filename) returns a list of str, as the "
+                              "official bindings (the C API fills an mjStringVec)",
 }
 
 _GL = "needs a current OpenGL context, which mjcffi does not create yet"
@@ -292,7 +435,6 @@ UNSUPPORTED = {
     "mj_recompile": "on failure it frees the mjModel and mjData that Python objects own",
     "mjv_copyData": "its copy lacks arrays that simulation functions read",
     "mjv_copyModel": "its copy lacks arrays that simulation functions read",
-    "mju_getXMLDependencies": "it fills an mjStringVec, which the C API cannot create or read",
     "mju_boxQPmalloc": "it allocates raw C arrays (mjtNum **)",
     "mju_setLogHandler": "it installs a C callback",
     "mjs_setUserValueWithCleanup": "it takes a C callback",
@@ -327,7 +469,7 @@ UNSUPPORTED = {
 
 # Helpers of mjcffi/_marshal.py that SHAPES, CHECKS and RETURNS may call.
 _HELPERS = ("state_size", "band_size", "csr", "below", "require", "object_id", "index",
-            "copy_array", "NULL", "NUM")
+            "copy_array", "fill", "NULL", "NUM")
 
 # C element type of a numeric array -> its Elem in mjcffi/_marshal.py.
 _ELEMS = {"mjtNum": "NUM", "double": "NUM", "float": "FLOAT", "int": "INT",
@@ -345,6 +487,7 @@ raw C function.
 from . import _marshal as _m
 from . import structs as _structs
 from ._library import lib as _lib
+from ._arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private helpers)
 '''
 
 
@@ -482,23 +625,63 @@ def _human(spec):
 
 # ------------------------------------------------------------ writers
 
-def _docstring(doc, notes, indent="    "):
-    body = outputs._doc_literal(doc or "(no header comment)")
+def _docstring(signature, doc, notes, indent="    "):
+    """The official bindings' shape: the signature line, the header's doc comment
+    (its lines kept), then mjcffi's notes; each part ends with a newline.
+
+    The lines after the first start at column 0, so that __doc__ holds no
+    indentation, as the official docstrings.
+    """
+    body = signature + "\n\n" + (doc or "(no header comment)") + "\n"
     if notes:
-        body += "\n\n" + "\n".join(notes)
-    lines = body.splitlines()
-    if len(lines) == 1:
-        return f'{indent}"""{lines[0]}"""'
-    rest = "\n".join((indent + line) if line else "" for line in lines[1:])
-    return f'{indent}"""{lines[0]}\n{rest}\n{indent}"""'
+        body += "\n" + "\n".join(notes) + "\n"
+    return f'{indent}"""{outputs._doc_literal(body)}"""'
 
 
-def _signature(params):
-    """Python parameter list; trailing nullable arguments default to None."""
+_INTS = {"int", "unsigned int", "mjtSize", "size_t", "mjtByte", "unsigned char", "mjtBool",
+         "uint64_t", "int64_t", "char"}
+
+
+def _annotation(a, typedefs):
+    """The type of an argument as the signature line shows it."""
+    if a.kind in ("struct", "struct_value"):
+        text = f"mujoco._structs.{class_name(a.base)}"
+    elif a.kind == "scalar":
+        text = "float" if a.base in ("mjtNum", "double", "float") else \
+            "int" if a.base in _INTS or typedefs.get(a.base, "").startswith("enum") else "Any"
+    elif a.kind == "text":
+        text = "str"
+    elif a.kind == "array":
+        text = f"numpy.typing.NDArray[numpy.{_NUMPY[a.base]}]"
+    elif a.kind in ("buffer", "chars"):
+        text = "bytes" if a.const else "bytearray"
+    else:
+        text = "Any"
+    return text + (" | None" if a.nullable else "")
+
+
+# What the RETURNS expressions give, for the signature line (others: Any).
+_RETURN_TYPES = {"mj_readCtrl": "numpy.typing.NDArray[numpy.float64]",
+                 "mj_readSensor": "numpy.typing.NDArray[numpy.float64]",
+                 "mjs_getTimer": "numpy.typing.NDArray[numpy.float64]",
+                 "mj_copyData": "None"}
+
+_NUMPY = {"mjtNum": "float64", "double": "float64", "float": "float32", "int": "int32",
+          "mjtByte": "uint8", "unsigned char": "uint8", "mjtSize": "int64", "mjtBool": "bool_"}
+
+
+def _signature(params, annotations=None):
+    """Python parameter list; trailing nullable arguments default to None.
+
+    With `annotations` ({name: type text}), the signature line of a docstring.
+    """
     parts, optional = [], True
     for py, nullable in reversed(params):
         optional = optional and nullable
-        parts.append(f"{py}=None" if optional else py)
+        if annotations:
+            parts.append(f"{py}: {annotations[py]}" + (" = None" if optional else ""))
+        else:
+            parts.append(f"{py}=None" if optional else py)
     return ", ".join(reversed(parts))
 
 
@@ -518,6 +701,10 @@ class _Function:
         unknown = set(self.shapes) - {a.name for a in self.args}
         if unknown:
             raise ValueError(f"SHAPES[{self.name}] names unknown arguments {sorted(unknown)}")
+        for name, table in (("MESSAGES", MESSAGES), ("SIZED", SIZED), ("BIND", BIND)):
+            unknown = set(table.get(self.name, ())) - {a.name for a in self.args}
+            if unknown:
+                raise ValueError(f"{name}[{self.name}] names unknown arguments {sorted(unknown)}")
         self.lines = []
         self.notes = []
 
@@ -562,6 +749,34 @@ class _Function:
             return f"its result ({ret.decl}) has no generic rule"
         return None
 
+    def signature_line(self, params):
+        """`name(arg: type, ...) -> type`, the first line of the docstring."""
+        by_py = {a.py: a for a in self.args}
+        typed = _signature(params, {py: _annotation(by_py[py], self.typedefs)
+                                    for py, _ in params})
+        return f"{self.name}({typed}) -> {self._result_annotation()}"
+
+    def _result_annotation(self):
+        ret = self.func.restype
+        if self.name in RETURNS:
+            return _RETURN_TYPES.get(self.name, "Any")
+        if self.name in ERRORS and not ERRORS[self.name][2]:
+            return "None"
+        if ret.decl == "void":
+            return "None"
+        if ret.pointer == 0:
+            if ret.base in self.described:
+                return f"mujoco._structs.{class_name(ret.base)}"
+            if ret.base in ("mjtNum", "double", "float"):
+                return "float"
+            return "int" if ret.base in _INTS or \
+                self.typedefs.get(ret.base, "").startswith("enum") else "Any"
+        if ret.base == "char":
+            return "str"
+        if ret.base in self.described:
+            return f"mujoco._structs.{class_name(ret.base)}"
+        return "Any"
+
     # ------------------------------------------------------------ body
 
     def emit(self, line=""):
@@ -586,10 +801,13 @@ class _Function:
             elif a.kind == "opaque" or (a.kind == "buffer" and a.name not in self.shapes):
                 self.emit(f'c_{a.py} = _m.opaque({a.py}, "{a.py}", {a.nullable})')
         for var in KEEP.get(self.name, ()):
-            self.emit(f'{var} = _m.count({var}, "{var}")')
+            message = _message(MESSAGES.get(self.name, {}).get(var))
+            self.emit(f'{var} = _m.count({var}, "{var}"{message})')
+        messages = MESSAGES.get(self.name, {})
         for argname, (low, count) in IDS.get(self.name, {}).items():
             py = next(a.py for a in self.args if a.name == argname)
-            self.emit(f'_m.index({py}, {self.expr(count)}, "{py}", {low})')
+            self.emit(f'_m.index({py}, {self.expr(count)}, "{py}", {low}'
+                      f'{_message(messages.get(argname))})')
             self.notes.append(f"{py} must be within {low}..{re.sub(r'^[md][.]', '', count)}-1.")
         self._arrays(sizes)
         for statement in CHECKS.get(self.name, ()):
@@ -611,8 +829,6 @@ class _Function:
                       f'"{model.py}", "{first.py}")')
             for d in datas[1:]:
                 self.emit(f'c_{d.py} = _m.data_of({model.py}, {d.py}, "{model.py}", "{d.py}")')
-            self.notes.append(f"{', '.join(d.py for d in datas)} must be made for "
-                              f"{model.py} (or for a model of the same sizes).")
         done = {id(a) for a in datas} | ({id(model)} if datas else set())
         for a in self.args:
             if id(a) in done:
@@ -645,9 +861,11 @@ class _Function:
                         break
             if not binders:
                 raise ValueError(f"{self.name}: no array gives size {var}")
-            # prefer arrays that are always given, then sizes read from flat
-            # (1-D) dims, then inputs: the most lenient about the layout of others
-            binders.sort(key=lambda b: (b[0].nullable, b[1] > 1, not b[0].const))
+            # prefer arrays that BIND names, then arrays that are always given,
+            # then sizes read from flat (1-D) dims, then inputs
+            bind = BIND.get(self.name, ())
+            binders.sort(key=lambda b: (b[0].name not in bind, b[0].nullable, b[1] > 1,
+                                        not b[0].const))
             chain = []
             for binder in binders:
                 chain.append(binder)
@@ -656,6 +874,9 @@ class _Function:
             chains[var] = chain
         first = {b[0].name for chain in chains.values() for b in chain}
 
+        messages = MESSAGES.get(self.name, {})
+        sized = set(SIZED.get(self.name, ()))
+
         def convert(a, dims):
             direction = "in" if a.const else "out"
             if a.kind in ("buffer", "chars"):
@@ -663,7 +884,7 @@ class _Function:
                 self.emit(f'c_{a.py}, nbytes_{a.py} = _m.{conv}({a.py}, "{a.py}")')
                 return
             conv = f"opt_{direction}" if a.nullable else f"array_{direction}"
-            extra = f", {dims}" if dims else ""
+            extra = f", {dims}{_message(messages.get(a.name))}" if dims else ""
             self.emit(f'{a.py}, c_{a.py} = _m.{conv}({a.py}, _m.{_ELEMS[a.base]}, '
                       f'"{a.py}"{extra})')
 
@@ -671,10 +892,16 @@ class _Function:
             dims = specs[a.name]
             if dims == ["*"] or a.kind in ("buffer", "chars"):
                 return None
+            if a.name in sized:                   # its number of elements
+                return " * ".join(f"({self.expr(d)})" if not d.isdigit() else d
+                                  for d in dims)
             if len(dims) == 1:
                 return self.expr(dims[0])
             return "(" + ", ".join(self.expr(d) for d in dims) + ")"
 
+        binders = {b[0].name for chain in chains.values() for b in chain}
+        if binders & sized:
+            raise ValueError(f"{self.name}: SIZED arrays {sorted(binders & sized)} give sizes")
         for a in arrays:                          # the arrays that give sizes
             if a.name in first:
                 convert(a, None)
@@ -683,22 +910,32 @@ class _Function:
                 if a.kind in ("buffer", "chars"):
                     value = f"nbytes_{a.py} // {factor}" if factor > 1 else f"nbytes_{a.py}"
                 else:
-                    value = f'_m.dim({a.py}, {ndims}, {axis}, {factor}, "{a.py}")'
+                    value = (f'_m.dim({a.py}, {ndims}, {axis}, {factor}, "{a.py}"'
+                             f'{_message(messages.get(a.name))})')
                 self.emit(f"{var} = {value}" if i == 0 else f"if {var} is None:")
                 if i:
                     self.emit(f"    {var} = {value}")
             if chain[-1][0].nullable:
                 self.emit(f"if {var} is None:")
                 self.emit(f"    {var} = 0")
-        for a in arrays:
+        order = list(messages)                    # the official bindings' order first
+        for a in sorted(arrays, key=lambda a: order.index(a.name) if a.name in order
+                        else len(order)):
             dims = extents(a)
-            if a.name not in first:
+            message = _message(messages.get(a.name))
+            if a.name in sized and dims is not None:
+                if a.name not in first:
+                    convert(a, None)
+                self.emit(f'_m.size({a.py}, {dims}, "{a.py}"{message})')
+            elif a.name not in first:
                 convert(a, dims)
             elif dims is not None:
-                self.emit(f'_m.shape({a.py}, {dims}, "{a.py}")')
+                self.emit(f'_m.shape({a.py}, {dims}, "{a.py}"{message})')
+        for a in arrays:                          # the notes, in the arguments' order
             if a.kind not in ("buffer", "chars") and specs[a.name] != ["*"]:
                 shape = _human(", ".join(specs[a.name]))
-                self.notes.append(f"{a.py}: {'output ' if not a.const else ''}array of shape "
+                what = "of the size of" if a.name in sized else "of shape"
+                self.notes.append(f"{a.py}: {'output ' if not a.const else ''}array {what} "
                                   f"{shape}{' or None' if a.nullable else ''}.")
 
     def _call(self, errors, omit):
@@ -720,9 +957,11 @@ class _Function:
                 values.append(f"c_{a.py}")
         ret = self.func.restype
         void = ret.decl == "void"
-        target = "status" if void else "ret"
+        target = "status = " if void else "ret = "
+        if RETURNS.get(self.name) == "None":
+            target = ""                   # the result is dropped, as the official bindings do
         indent = "        " if scalars else "    "
-        call = _wrapped(f"{target} = _lib.mjcffi_guard_{self.name}(", values, ")", indent)
+        call = _wrapped(f"{target}_lib.mjcffi_guard_{self.name}(", values, ")", indent)
         if scalars:
             entries = [f'"{a.py}": ("{a.decl}", {a.py})' for a in scalars]
             self.emit("try:")
@@ -763,6 +1002,11 @@ class _Function:
         return "None if ret == _m.NULL else ret"     # raw handle or void *
 
 
+def _message(message):
+    """The trailing `, message` argument of a check, or ""."""
+    return "" if message is None else f", {message!r}"
+
+
 def _wrapped(head, items, tail, indent, width=100):
     """`head` + comma-separated `items` + `tail`, broken over lines to fit `width`."""
     line = head + ", ".join(items) + tail
@@ -783,7 +1027,9 @@ def _unsupported(func, note, reason, described, typedefs):
     args = [a for a in _args(func, note, described, typedefs) if a.kind != "varargs"]
     params = _signature([(a.py, a.nullable) for a in args])
     notes = textwrap.wrap(f"Not available in mjcffi: {reason}.", 92)
-    doc = _docstring(note.doc if note else "",
+    typed = _signature([(a.py, a.nullable) for a in args],
+                       {a.py: _annotation(a, typedefs) for a in args})
+    doc = _docstring(f"{func.name}({typed}) -> None", note.doc if note else "",
                      notes + [f"The raw C function is mjcffi.lib.{func.name}."])
     return "\n".join([
         f"def {func.name}({params}):",
@@ -797,7 +1043,7 @@ def generate(decls, notes, described, header_texts):
     """{"mjcffi/_functions.py": text} for every function of the parsed headers."""
     constants = _defines(header_texts, decls)
     for table in (SHAPES, KEEP, IDS, CHECKS, ERRORS, RETURNS, OWNED, RENAMES, OMIT,
-                  NULLABLE, OVERRIDES, UNSUPPORTED):
+                  NULLABLE, OVERRIDES, UNSUPPORTED, MESSAGES, SIZED, BIND):
         unknown = set(table) - set(decls.functions)
         if unknown:
             raise ValueError(f"special-case table names unknown functions {sorted(unknown)}")
@@ -820,7 +1066,8 @@ def generate(decls, notes, described, header_texts):
             raise ValueError(f"{name}: {reason}; add it to SHAPES, OVERRIDES or UNSUPPORTED")
         params = writer.write()
         header = f"def {name}({_signature(params)}):"
-        blocks.append("\n".join([header, _docstring(writer.doc, writer.notes)]
+        blocks.append("\n".join([header, _docstring(writer.signature_line(params),
+                                                    writer.doc, writer.notes)]
                                 + writer.lines))
     text = outputs.HEADER_PY + _HEAD + "\n\n" + "\n\n\n".join(blocks) + "\n"
     return {"mjcffi/_functions.py": text}

@@ -11,12 +11,15 @@ raw C function.
 from . import _marshal as _m
 from . import structs as _structs
 from ._library import lib as _lib
+from ._arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private helpers)
 
 
 def mj_mountVFS(vfs, filepath, provider):
-    """Mount a provider to handle file operations under the given path; return 0: success,
-    2: repeated name, -1: invalid provider.
-    """
+    """mj_mountVFS(vfs: mujoco._structs.MjVFS, filepath: str, provider: mujoco._structs.MjpResourceProvider) -> int
+
+Mount a provider to handle file operations under the given path; return 0: success,
+2: repeated name, -1: invalid provider.
+"""
     c_vfs = _m.struct(vfs, "mjVFS", "vfs")
     c_provider = _m.struct(provider, "mjpResourceProvider", "provider")
     c_filepath = _m.text(filepath, "filepath")
@@ -26,7 +29,10 @@ def mj_mountVFS(vfs, filepath, provider):
 
 
 def mj_unmountVFS(vfs, filename):
-    """Unmount a previously mounted provider; return 0: success, -1: not found in VFS."""
+    """mj_unmountVFS(vfs: mujoco._structs.MjVFS, filename: str) -> int
+
+Unmount a previously mounted provider; return 0: success, -1: not found in VFS.
+"""
     c_vfs = _m.struct(vfs, "mjVFS", "vfs")
     c_filename = _m.text(filename, "filename")
     ret = _lib.mjcffi_guard_mj_unmountVFS(c_vfs, c_filename)
@@ -35,7 +41,10 @@ def mj_unmountVFS(vfs, filename):
 
 
 def mj_addFileVFS(vfs, directory, filename):
-    """Add file to VFS; return 0: success, 2: repeated name, -1: failed to load."""
+    """mj_addFileVFS(vfs: mujoco._structs.MjVFS, directory: str | None, filename: str) -> int
+
+Add file to VFS; return 0: success, 2: repeated name, -1: failed to load.
+"""
     c_vfs = _m.struct(vfs, "mjVFS", "vfs")
     c_directory = _m.opt_text(directory, "directory")
     c_filename = _m.text(filename, "filename")
@@ -45,7 +54,10 @@ def mj_addFileVFS(vfs, directory, filename):
 
 
 def mj_addBufferVFS(vfs, name, buffer):
-    """Add file to VFS from buffer; return 0: success, 2: repeated name, -1: failed to load."""
+    """mj_addBufferVFS(vfs: mujoco._structs.MjVFS, name: str, buffer: bytes) -> int
+
+Add file to VFS from buffer; return 0: success, 2: repeated name, -1: failed to load.
+"""
     c_vfs = _m.struct(vfs, "mjVFS", "vfs")
     c_name = _m.text(name, "name")
     c_buffer, nbytes_buffer = _m.buffer_in(buffer, "buffer")
@@ -59,7 +71,10 @@ def mj_addBufferVFS(vfs, name, buffer):
 
 
 def mj_deleteFileVFS(vfs, filename):
-    """Delete file from VFS; return 0: success, -1: not found in VFS."""
+    """mj_deleteFileVFS(vfs: mujoco._structs.MjVFS, filename: str) -> int
+
+Delete file from VFS; return 0: success, -1: not found in VFS.
+"""
     c_vfs = _m.struct(vfs, "mjVFS", "vfs")
     c_filename = _m.text(filename, "filename")
     ret = _lib.mjcffi_guard_mj_deleteFileVFS(c_vfs, c_filename)
@@ -68,7 +83,10 @@ def mj_deleteFileVFS(vfs, filename):
 
 
 def mj_containsBufferVFS(vfs, name):
-    """Check if buffer exists in VFS; return 1: exists, 0: not found."""
+    """mj_containsBufferVFS(vfs: mujoco._structs.MjVFS, name: str) -> int
+
+Check if buffer exists in VFS; return 1: exists, 0: not found.
+"""
     c_vfs = _m.struct(vfs, "mjVFS", "vfs")
     c_name = _m.text(name, "name")
     ret = _lib.mjcffi_guard_mj_containsBufferVFS(c_vfs, c_name)
@@ -77,7 +95,10 @@ def mj_containsBufferVFS(vfs, name):
 
 
 def mj_containsFileVFS(vfs, directory, filename):
-    """Check if file exists in VFS; return 1: exists, 0: not found."""
+    """mj_containsFileVFS(vfs: mujoco._structs.MjVFS, directory: str, filename: str) -> int
+
+Check if file exists in VFS; return 1: exists, 0: not found.
+"""
     c_vfs = _m.struct(vfs, "mjVFS", "vfs")
     c_directory = _m.text(directory, "directory")
     c_filename = _m.text(filename, "filename")
@@ -87,7 +108,10 @@ def mj_containsFileVFS(vfs, directory, filename):
 
 
 def mj_getCacheSize(cache):
-    """Get the current size of the asset cache in bytes."""
+    """mj_getCacheSize(cache: mujoco._structs.MjCache) -> int
+
+Get the current size of the asset cache in bytes.
+"""
     c_cache = _m.struct(cache, "mjCache", "cache")
     ret = _lib.mjcffi_guard_mj_getCacheSize(c_cache)
     _m.check_error()
@@ -95,7 +119,10 @@ def mj_getCacheSize(cache):
 
 
 def mj_getCacheCapacity(cache):
-    """Get the capacity of the asset cache in bytes."""
+    """mj_getCacheCapacity(cache: mujoco._structs.MjCache) -> int
+
+Get the capacity of the asset cache in bytes.
+"""
     c_cache = _m.struct(cache, "mjCache", "cache")
     ret = _lib.mjcffi_guard_mj_getCacheCapacity(c_cache)
     _m.check_error()
@@ -103,7 +130,10 @@ def mj_getCacheCapacity(cache):
 
 
 def mj_setCacheCapacity(cache, size):
-    """Set the capacity of the asset cache in bytes (0 to disable); return the new capacity."""
+    """mj_setCacheCapacity(cache: mujoco._structs.MjCache, size: int) -> int
+
+Set the capacity of the asset cache in bytes (0 to disable); return the new capacity.
+"""
     c_cache = _m.struct(cache, "mjCache", "cache")
     try:
         ret = _lib.mjcffi_guard_mj_setCacheCapacity(c_cache, size)
@@ -114,21 +144,30 @@ def mj_setCacheCapacity(cache, size):
 
 
 def mj_getCache():
-    """Get the internal asset cache used by the compiler."""
+    """mj_getCache() -> mujoco._structs.MjCache
+
+Get the internal asset cache used by the compiler.
+"""
     ret = _lib.mjcffi_guard_mj_getCache()
     _m.check_error()
     return _m.wrap(_structs.MjCache, ret, None)
 
 
 def mj_clearCache(cache):
-    """Clear the asset cache."""
+    """mj_clearCache(cache: mujoco._structs.MjCache) -> None
+
+Clear the asset cache.
+"""
     c_cache = _m.struct(cache, "mjCache", "cache")
     status = _lib.mjcffi_guard_mj_clearCache(c_cache)
     _m.check(status)
 
 
 def mj_parseXML(filename, vfs=None):
-    """Parse spec from XML file."""
+    """mj_parseXML(filename: str, vfs: mujoco._structs.MjVFS | None = None) -> mujoco._structs.MjSpec
+
+Parse spec from XML file.
+"""
     c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
     c_filename = _m.text(filename, "filename")
     error, error_sz = _m.error_buffer()
@@ -140,7 +179,10 @@ def mj_parseXML(filename, vfs=None):
 
 
 def mj_parseXMLString(xml, vfs=None):
-    """Parse spec from XML string."""
+    """mj_parseXMLString(xml: str, vfs: mujoco._structs.MjVFS | None = None) -> mujoco._structs.MjSpec
+
+Parse spec from XML string.
+"""
     c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
     c_xml = _m.text(xml, "xml")
     error, error_sz = _m.error_buffer()
@@ -152,7 +194,10 @@ def mj_parseXMLString(xml, vfs=None):
 
 
 def mj_parse(filename, content_type, vfs=None):
-    """Parse spec from a file."""
+    """mj_parse(filename: str, content_type: str, vfs: mujoco._structs.MjVFS | None = None) -> mujoco._structs.MjSpec
+
+Parse spec from a file.
+"""
     c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
     c_filename = _m.text(filename, "filename")
     c_content_type = _m.text(content_type, "content_type")
@@ -165,9 +210,11 @@ def mj_parse(filename, content_type, vfs=None):
 
 
 def mj_encode(s, m, filename, content_type, vfs=None):
-    """Encode spec/model to a file using a registered encoder.
-    Returns the number of bytes written on success, -1 on failure.
-    """
+    """mj_encode(s: mujoco._structs.MjSpec, m: mujoco._structs.MjModel | None, filename: str, content_type: str, vfs: mujoco._structs.MjVFS | None = None) -> int
+
+Encode spec/model to a file using a registered encoder.
+Returns the number of bytes written on success, -1 on failure.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_m = _m.opt_struct(m, "mjModel", "m")
     c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
@@ -182,7 +229,10 @@ def mj_encode(s, m, filename, content_type, vfs=None):
 
 
 def mj_copyBack(s, m):
-    """Copy the values which were changed in a model to the spec it was compiled from; return 1 on success."""
+    """mj_copyBack(s: mujoco._structs.MjSpec, m: mujoco._structs.MjModel) -> int
+
+Copy the values which were changed in a model to the spec it was compiled from; return 1 on success.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_m = _m.struct(m, "mjModel", "m")
     ret = _lib.mjcffi_guard_mj_copyBack(c_s, c_m)
@@ -191,19 +241,23 @@ def mj_copyBack(s, m):
 
 
 def mj_recompile(s, vfs, m, d):
-    """Recompile spec to model, preserving the state; return 0 on success.
+    """mj_recompile(s: mujoco._structs.MjSpec, vfs: mujoco._structs.MjVFS | None, m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    Not available in mjcffi: on failure it frees the mjModel and mjData that Python objects own.
-    The raw C function is mjcffi.lib.mj_recompile.
-    """
+Recompile spec to model, preserving the state; return 0 on success.
+
+Not available in mjcffi: on failure it frees the mjModel and mjData that Python objects own.
+The raw C function is mjcffi.lib.mj_recompile.
+"""
     raise NotImplementedError(
         'mj_recompile: on failure it frees the mjModel and mjData that Python objects own')
 
 
 def mj_saveLastXML(filename, m):
-    """Update XML data structures with info from low-level model created with mj_loadXML, save as MJCF.
-    If error is not NULL, it must have size error_sz.
-    """
+    """mj_saveLastXML(filename: str, m: mujoco._structs.MjModel) -> None
+
+Update XML data structures with info from low-level model created with mj_loadXML, save as MJCF.
+If error is not NULL, it must have size error_sz.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_filename = _m.text(filename, "filename")
     error, error_sz = _m.error_buffer()
@@ -214,13 +268,19 @@ def mj_saveLastXML(filename, m):
 
 
 def mj_freeLastXML():
-    """Free last XML model if loaded. Called internally at each load."""
+    """mj_freeLastXML() -> None
+
+Free last XML model if loaded. Called internally at each load.
+"""
     status = _lib.mjcffi_guard_mj_freeLastXML()
     _m.check(status)
 
 
 def mj_saveXML(s, filename):
-    """Save spec to XML file; return 0 on success, -1 otherwise."""
+    """mj_saveXML(s: mujoco._structs.MjSpec, filename: str) -> None
+
+Save spec to XML file; return 0 on success, -1 otherwise.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_filename = _m.text(filename, "filename")
     error, error_sz = _m.error_buffer()
@@ -230,52 +290,41 @@ def mj_saveXML(s, filename):
         raise ValueError(_m.error_text(error, "mj_saveXML"))
 
 
-def mju_getXMLDependencies(filename, dependencies):
-    """Given MJCF filename, fills dependencies with a list of all other asset files it depends on.
-    The search is recursive, and the list includes the filename itself.
-
-    Not available in mjcffi: it fills an mjStringVec, which the C API cannot create or read.
-    The raw C function is mjcffi.lib.mju_getXMLDependencies.
-    """
-    raise NotImplementedError(
-        'mju_getXMLDependencies: it fills an mjStringVec, which the C API cannot create or read')
-
-
 def mj_step1(m, d):
-    """Advance simulation in two steps: before external force and control is set by user.
+    """mj_step1(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Advance simulation in two steps: before external force and control is set by user.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_step1(c_m, c_d)
     _m.check(status)
 
 
 def mj_step2(m, d):
-    """Advance simulation in two steps: after external force and control is set by user.
+    """mj_step2(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Advance simulation in two steps: after external force and control is set by user.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_step2(c_m, c_d)
     _m.check(status)
 
 
 def mj_inverse(m, d):
-    """Inverse dynamics: qacc must be set before calling.
+    """mj_inverse(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Inverse dynamics: qacc must be set before calling.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_inverse(c_m, c_d)
     _m.check(status)
 
 
 def mj_forwardSkip(m, d, skipstage, skipsensor):
-    """Forward dynamics with skip; skipstage is mjtStage.
+    """mj_forwardSkip(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, skipstage: int, skipsensor: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Forward dynamics with skip; skipstage is mjtStage.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     try:
         status = _lib.mjcffi_guard_mj_forwardSkip(c_m, c_d, skipstage, skipsensor)
@@ -286,10 +335,10 @@ def mj_forwardSkip(m, d, skipstage, skipsensor):
 
 
 def mj_inverseSkip(m, d, skipstage, skipsensor):
-    """Inverse dynamics with skip; skipstage is mjtStage.
+    """mj_inverseSkip(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, skipstage: int, skipsensor: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Inverse dynamics with skip; skipstage is mjtStage.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     try:
         status = _lib.mjcffi_guard_mj_inverseSkip(c_m, c_d, skipstage, skipsensor)
@@ -300,18 +349,23 @@ def mj_inverseSkip(m, d, skipstage, skipsensor):
 
 
 def mj_defaultLROpt(opt):
-    """Set default options for length range computation."""
+    """mj_defaultLROpt(opt: mujoco._structs.MjLROpt) -> None
+
+Set default options for length range computation.
+"""
     c_opt = _m.struct(opt, "mjLROpt", "opt")
     status = _lib.mjcffi_guard_mj_defaultLROpt(c_opt)
     _m.check(status)
 
 
 def mj_defaultSolRefImp(solref=None, solimp=None):
-    """Set solver parameters to default values.
+    """mj_defaultSolRefImp(solref: numpy.typing.NDArray[numpy.float64] | None = None, solimp: numpy.typing.NDArray[numpy.float64] | None = None) -> None
 
-    solref: output array of shape (mjNREF,) or None.
-    solimp: output array of shape (mjNIMP,) or None.
-    """
+Set solver parameters to default values.
+
+solref: output array of shape (mjNREF,) or None.
+solimp: output array of shape (mjNIMP,) or None.
+"""
     solref, c_solref = _m.opt_out(solref, _m.NUM, "solref", 2)
     solimp, c_solimp = _m.opt_out(solimp, _m.NUM, "solimp", 5)
     status = _lib.mjcffi_guard_mj_defaultSolRefImp(c_solref, c_solimp)
@@ -319,21 +373,30 @@ def mj_defaultSolRefImp(solref=None, solimp=None):
 
 
 def mj_defaultOption(opt):
-    """Set physics options to default values."""
+    """mj_defaultOption(opt: mujoco._structs.MjOption) -> None
+
+Set physics options to default values.
+"""
     c_opt = _m.struct(opt, "mjOption", "opt")
     status = _lib.mjcffi_guard_mj_defaultOption(c_opt)
     _m.check(status)
 
 
 def mj_defaultVisual(vis):
-    """Set visual options to default values."""
+    """mj_defaultVisual(vis: mujoco._structs.MjVisual) -> None
+
+Set visual options to default values.
+"""
     c_vis = _m.struct(vis, "mjVisual", "vis")
     status = _lib.mjcffi_guard_mj_defaultVisual(c_vis)
     _m.check(status)
 
 
 def mj_saveModel(m, filename=None, buffer=None):
-    """Save model to binary MJB file or memory buffer; buffer has precedence when given."""
+    """mj_saveModel(m: mujoco._structs.MjModel, filename: str | None = None, buffer: bytearray | None = None) -> None
+
+Save model to binary MJB file or memory buffer; buffer has precedence when given.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_filename = _m.opt_text(filename, "filename")
     c_buffer, nbytes_buffer = _m.opt_buffer_out(buffer, "buffer")
@@ -348,17 +411,22 @@ def mj_saveModel(m, filename=None, buffer=None):
 
 
 def mj_deleteModel(m):
-    """Free memory allocation in model.
+    """mj_deleteModel(m: mujoco._structs.MjModel) -> None
 
-    Not available in mjcffi: an MjModel owns its mjModel and frees it when collected.
-    The raw C function is mjcffi.lib.mj_deleteModel.
-    """
+Free memory allocation in model.
+
+Not available in mjcffi: an MjModel owns its mjModel and frees it when collected.
+The raw C function is mjcffi.lib.mj_deleteModel.
+"""
     raise NotImplementedError(
         'mj_deleteModel: an MjModel owns its mjModel and frees it when collected')
 
 
 def mj_sizeModel(m):
-    """Return size of buffer needed to hold model."""
+    """mj_sizeModel(m: mujoco._structs.MjModel) -> int
+
+Return size of buffer needed to hold model.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     ret = _lib.mjcffi_guard_mj_sizeModel(c_m)
     _m.check_error()
@@ -366,53 +434,55 @@ def mj_sizeModel(m):
 
 
 def mj_copyData(dest, m, src):
-    """Copy mjData.
-    m is only required to contain the size fields from MJMODEL_INTS.
+    """mj_copyData(dest: mujoco._structs.MjData, m: mujoco._structs.MjModel, src: mujoco._structs.MjData) -> None
 
-    dest, src must be made for m (or for a model of the same sizes).
-    """
+Copy mjData.
+m is only required to contain the size fields from MJMODEL_INTS.
+"""
     c_m, c_dest = _m.model_data(m, dest, "m", "dest")
     c_src = _m.data_of(m, src, "m", "src")
-    ret = _lib.mjcffi_guard_mj_copyData(c_dest, c_m, c_src)
+    _lib.mjcffi_guard_mj_copyData(c_dest, c_m, c_src)
     _m.check_error()
     return None
 
 
 def mjv_copyData(dest, m, src):
-    """Copy mjData, skip large arrays not required for visualization.
+    """mjv_copyData(dest: mujoco._structs.MjData, m: mujoco._structs.MjModel, src: mujoco._structs.MjData) -> None
 
-    Not available in mjcffi: its copy lacks arrays that simulation functions read.
-    The raw C function is mjcffi.lib.mjv_copyData.
-    """
+Copy mjData, skip large arrays not required for visualization.
+
+Not available in mjcffi: its copy lacks arrays that simulation functions read.
+The raw C function is mjcffi.lib.mjv_copyData.
+"""
     raise NotImplementedError(
         'mjv_copyData: its copy lacks arrays that simulation functions read')
 
 
 def mj_resetCtrl(m, d):
-    """Reset ctrl to neutral values: zero, except quaternion inputs which reset to the identity.
+    """mj_resetCtrl(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Reset ctrl to neutral values: zero, except quaternion inputs which reset to the identity.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_resetCtrl(c_m, c_d)
     _m.check(status)
 
 
 def mj_resetData(m, d):
-    """Reset data to defaults.
+    """mj_resetData(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Reset data to defaults.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_resetData(c_m, c_d)
     _m.check(status)
 
 
 def mj_resetDataDebug(m, d, debug_value):
-    """Reset data to defaults, fill everything else with debug_value.
+    """mj_resetDataDebug(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, debug_value: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Reset data to defaults, fill everything else with debug_value.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     try:
         status = _lib.mjcffi_guard_mj_resetDataDebug(c_m, c_d, debug_value)
@@ -423,10 +493,10 @@ def mj_resetDataDebug(m, d, debug_value):
 
 
 def mj_resetDataKeyframe(m, d, key):
-    """Reset data. If 0 <= key < nkey, set fields from specified keyframe.
+    """mj_resetDataKeyframe(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, key: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Reset data. If 0 <= key < nkey, set fields from specified keyframe.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     try:
         status = _lib.mjcffi_guard_mj_resetDataKeyframe(c_m, c_d, key)
@@ -436,25 +506,32 @@ def mj_resetDataKeyframe(m, d, key):
 
 
 def mj_markStack(d):
-    """Mark a new frame on the mjData stack."""
+    """mj_markStack(d: mujoco._structs.MjData) -> None
+
+Mark a new frame on the mjData stack.
+"""
     c_d = _m.struct(d, "mjData", "d")
     status = _lib.mjcffi_guard_mj_markStack(c_d)
     _m.check(status)
 
 
 def mj_freeStack(d):
-    """Free the current mjData stack frame. All pointers returned by mj_stackAlloc since the last call
-    to mj_markStack must no longer be used afterwards.
-    """
+    """mj_freeStack(d: mujoco._structs.MjData) -> None
+
+Free the current mjData stack frame. All pointers returned by mj_stackAlloc since the last call
+to mj_markStack must no longer be used afterwards.
+"""
     c_d = _m.struct(d, "mjData", "d")
     status = _lib.mjcffi_guard_mj_freeStack(c_d)
     _m.check(status)
 
 
 def mj_stackAllocByte(d, bytes, alignment):
-    """Allocate a number of bytes on mjData stack at a specific alignment.
-    Call mju_error on stack overflow.
-    """
+    """mj_stackAllocByte(d: mujoco._structs.MjData, bytes: int, alignment: int) -> Any
+
+Allocate a number of bytes on mjData stack at a specific alignment.
+Call mju_error on stack overflow.
+"""
     c_d = _m.struct(d, "mjData", "d")
     try:
         ret = _lib.mjcffi_guard_mj_stackAllocByte(c_d, bytes, alignment)
@@ -466,7 +543,10 @@ def mj_stackAllocByte(d, bytes, alignment):
 
 
 def mj_stackAllocNum(d, size):
-    """Allocate array of mjtNums on mjData stack. Call mju_error on stack overflow."""
+    """mj_stackAllocNum(d: mujoco._structs.MjData, size: int) -> Any
+
+Allocate array of mjtNums on mjData stack. Call mju_error on stack overflow.
+"""
     c_d = _m.struct(d, "mjData", "d")
     try:
         ret = _lib.mjcffi_guard_mj_stackAllocNum(c_d, size)
@@ -477,7 +557,10 @@ def mj_stackAllocNum(d, size):
 
 
 def mj_stackAllocInt(d, size):
-    """Allocate array of ints on mjData stack. Call mju_error on stack overflow."""
+    """mj_stackAllocInt(d: mujoco._structs.MjData, size: int) -> Any
+
+Allocate array of ints on mjData stack. Call mju_error on stack overflow.
+"""
     c_d = _m.struct(d, "mjData", "d")
     try:
         ret = _lib.mjcffi_guard_mj_stackAllocInt(c_d, size)
@@ -488,36 +571,41 @@ def mj_stackAllocInt(d, size):
 
 
 def mj_deleteData(d):
-    """Free memory allocation in mjData.
+    """mj_deleteData(d: mujoco._structs.MjData) -> None
 
-    Not available in mjcffi: an MjData owns its mjData and frees it when collected.
-    The raw C function is mjcffi.lib.mj_deleteData.
-    """
+Free memory allocation in mjData.
+
+Not available in mjcffi: an MjData owns its mjData and frees it when collected.
+The raw C function is mjcffi.lib.mj_deleteData.
+"""
     raise NotImplementedError(
         'mj_deleteData: an MjData owns its mjData and frees it when collected')
 
 
 def mj_resetCallbacks():
-    """Reset all callbacks to NULL pointers (NULL is the default)."""
+    """mj_resetCallbacks() -> None
+
+Reset all callbacks to NULL pointers (NULL is the default).
+"""
     status = _lib.mjcffi_guard_mj_resetCallbacks()
     _m.check(status)
 
 
 def mj_setConst(m, d):
-    """Set constant fields of mjModel, corresponding to qpos0 configuration.
+    """mj_setConst(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Set constant fields of mjModel, corresponding to qpos0 configuration.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_setConst(c_m, c_d)
     _m.check(status)
 
 
 def mj_setLengthRange(m, d, index, opt):
-    """Set actuator_lengthrange for specified actuator; return 1 if ok, 0 if error.
+    """mj_setLengthRange(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, index: int, opt: mujoco._structs.MjLROpt) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Set actuator_lengthrange for specified actuator; return 1 if ok, 0 if error.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_opt = _m.struct(opt, "mjLROpt", "opt")
     error, error_sz = _m.error_buffer()
@@ -531,14 +619,20 @@ def mj_setLengthRange(m, d, index, opt):
 
 
 def mj_makeSpec():
-    """Create empty spec."""
+    """mj_makeSpec() -> mujoco._structs.MjSpec
+
+Create empty spec.
+"""
     ret = _lib.mjcffi_guard_mj_makeSpec()
     _m.check_error()
     return _m.own(_structs.MjSpec, ret, _lib.mj_deleteSpec)
 
 
 def mj_copySpec(s):
-    """Copy spec."""
+    """mj_copySpec(s: mujoco._structs.MjSpec) -> mujoco._structs.MjSpec
+
+Copy spec.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mj_copySpec(c_s)
     _m.check_error()
@@ -546,17 +640,22 @@ def mj_copySpec(s):
 
 
 def mj_deleteSpec(s):
-    """Free memory allocation in mjSpec.
+    """mj_deleteSpec(s: mujoco._structs.MjSpec) -> None
 
-    Not available in mjcffi: an MjSpec owns its mjSpec and frees it when collected.
-    The raw C function is mjcffi.lib.mj_deleteSpec.
-    """
+Free memory allocation in mjSpec.
+
+Not available in mjcffi: an MjSpec owns its mjSpec and frees it when collected.
+The raw C function is mjcffi.lib.mj_deleteSpec.
+"""
     raise NotImplementedError(
         'mj_deleteSpec: an MjSpec owns its mjSpec and frees it when collected')
 
 
 def mjs_activatePlugin(s, name):
-    """Activate plugin; return 0 on success."""
+    """mjs_activatePlugin(s: mujoco._structs.MjSpec, name: str) -> int
+
+Activate plugin; return 0 on success.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_name = _m.text(name, "name")
     ret = _lib.mjcffi_guard_mjs_activatePlugin(c_s, c_name)
@@ -565,7 +664,10 @@ def mjs_activatePlugin(s, name):
 
 
 def mjs_setDeepCopy(s, deepcopy):
-    """Turn deep copy on or off attach; return 0 on success."""
+    """mjs_setDeepCopy(s: mujoco._structs.MjSpec, deepcopy: int) -> int
+
+Turn deep copy on or off attach; return 0 on success.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     try:
         ret = _lib.mjcffi_guard_mjs_setDeepCopy(c_s, deepcopy)
@@ -576,9 +678,11 @@ def mjs_setDeepCopy(s, deepcopy):
 
 
 def mj_printFormattedModel(m, filename, float_format):
-    """Print mjModel to text file, specifying format.
-    float_format must be a valid printf-style format string for a single float value.
-    """
+    """mj_printFormattedModel(m: mujoco._structs.MjModel, filename: str, float_format: str) -> None
+
+Print mjModel to text file, specifying format.
+float_format must be a valid printf-style format string for a single float value.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_filename = _m.text(filename, "filename")
     c_float_format = _m.text(float_format, "float_format")
@@ -587,7 +691,10 @@ def mj_printFormattedModel(m, filename, float_format):
 
 
 def mj_printModel(m, filename):
-    """Print model to text file."""
+    """mj_printModel(m: mujoco._structs.MjModel, filename: str) -> None
+
+Print model to text file.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_filename = _m.text(filename, "filename")
     status = _lib.mjcffi_guard_mj_printModel(c_m, c_filename)
@@ -595,11 +702,11 @@ def mj_printModel(m, filename):
 
 
 def mj_printFormattedData(m, d, filename, float_format):
-    """Print mjData to text file, specifying format.
-    float_format must be a valid printf-style format string for a single float value.
+    """mj_printFormattedData(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, filename: str, float_format: str) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Print mjData to text file, specifying format.
+float_format must be a valid printf-style format string for a single float value.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_filename = _m.text(filename, "filename")
     c_float_format = _m.text(float_format, "float_format")
@@ -608,10 +715,10 @@ def mj_printFormattedData(m, d, filename, float_format):
 
 
 def mj_printData(m, d, filename):
-    """Print data to text file.
+    """mj_printData(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, filename: str) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Print data to text file.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_filename = _m.text(filename, "filename")
     status = _lib.mjcffi_guard_mj_printData(c_m, c_d, c_filename)
@@ -619,10 +726,12 @@ def mj_printData(m, d, filename):
 
 
 def mju_printMat(mat):
-    """Print matrix to screen.
+    """mju_printMat(mat: numpy.typing.NDArray[numpy.float64]) -> None
 
-    mat: array of shape (nr, nc).
-    """
+Print matrix to screen.
+
+mat: array of shape (nr, nc).
+"""
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat")
     nr = _m.dim(mat, 2, 0, 1, "mat")
     nc = _m.dim(mat, 2, 1, 1, "mat")
@@ -635,11 +744,13 @@ def mju_printMat(mat):
 
 
 def mju_printMatSparse(mat, rownnz, rowadr, colind):
-    """Print sparse matrix to screen.
+    """mju_printMatSparse(mat: numpy.typing.NDArray[numpy.float64], rownnz: numpy.typing.NDArray[numpy.int32], rowadr: numpy.typing.NDArray[numpy.int32], colind: numpy.typing.NDArray[numpy.int32]) -> None
 
-    rownnz: array of shape (nr,).
-    rowadr: array of shape (nr,).
-    """
+Print sparse matrix to screen.
+
+rownnz: array of shape (nr,).
+rowadr: array of shape (nr,).
+"""
     rownnz, c_rownnz = _m.array_in(rownnz, _m.INT, "rownnz")
     nr = _m.dim(rownnz, 1, 0, 1, "rownnz")
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat")
@@ -655,7 +766,10 @@ def mju_printMatSparse(mat, rownnz, rowadr, colind):
 
 
 def mj_printScene(s, filename):
-    """Print scene to text file."""
+    """mj_printScene(s: mujoco._structs.MjvScene, filename: str) -> None
+
+Print scene to text file.
+"""
     c_s = _m.struct(s, "mjvScene", "s")
     c_filename = _m.text(filename, "filename")
     status = _lib.mjcffi_guard_mj_printScene(c_s, c_filename)
@@ -663,9 +777,11 @@ def mj_printScene(s, filename):
 
 
 def mj_printFormattedScene(s, filename, float_format):
-    """Print scene to text file, specifying format.
-    float_format must be a valid printf-style format string for a single float value.
-    """
+    """mj_printFormattedScene(s: mujoco._structs.MjvScene, filename: str, float_format: str) -> None
+
+Print scene to text file, specifying format.
+float_format must be a valid printf-style format string for a single float value.
+"""
     c_s = _m.struct(s, "mjvScene", "s")
     c_filename = _m.text(filename, "filename")
     c_float_format = _m.text(float_format, "float_format")
@@ -674,80 +790,80 @@ def mj_printFormattedScene(s, filename, float_format):
 
 
 def mj_fwdKinematics(m, d):
-    """Run all kinematics-like computations (kinematics, comPos, camlight, flex, tendon).
+    """mj_fwdKinematics(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Run all kinematics-like computations (kinematics, comPos, camlight, flex, tendon).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_fwdKinematics(c_m, c_d)
     _m.check(status)
 
 
 def mj_fwdPosition(m, d):
-    """Run position-dependent computations.
+    """mj_fwdPosition(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Run position-dependent computations.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_fwdPosition(c_m, c_d)
     _m.check(status)
 
 
 def mj_fwdVelocity(m, d):
-    """Run velocity-dependent computations.
+    """mj_fwdVelocity(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Run velocity-dependent computations.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_fwdVelocity(c_m, c_d)
     _m.check(status)
 
 
 def mj_fwdActuation(m, d):
-    """Compute actuator force qfrc_actuator.
+    """mj_fwdActuation(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compute actuator force qfrc_actuator.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_fwdActuation(c_m, c_d)
     _m.check(status)
 
 
 def mj_fwdAcceleration(m, d):
-    """Add up all non-constraint forces, compute qacc_smooth.
+    """mj_fwdAcceleration(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Add up all non-constraint forces, compute qacc_smooth.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_fwdAcceleration(c_m, c_d)
     _m.check(status)
 
 
 def mj_fwdConstraint(m, d):
-    """Run selected constraint solver.
+    """mj_fwdConstraint(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Run selected constraint solver.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_fwdConstraint(c_m, c_d)
     _m.check(status)
 
 
 def mj_Euler(m, d):
-    """Euler integrator, semi-implicit in velocity.
+    """mj_Euler(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Euler integrator, semi-implicit in velocity.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_Euler(c_m, c_d)
     _m.check(status)
 
 
 def mj_RungeKutta(m, d, N):
-    """Runge-Kutta explicit order-N integrator.
+    """mj_RungeKutta(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, N: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Runge-Kutta explicit order-N integrator.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     try:
         status = _lib.mjcffi_guard_mj_RungeKutta(c_m, c_d, N)
@@ -757,237 +873,238 @@ def mj_RungeKutta(m, d, N):
 
 
 def mj_implicit(m, d):
-    """Implicit-in-velocity integrators.
+    """mj_implicit(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Implicit-in-velocity integrators.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_implicit(c_m, c_d)
     _m.check(status)
 
 
 def mj_invPosition(m, d):
-    """Run position-dependent computations in inverse dynamics.
+    """mj_invPosition(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Run position-dependent computations in inverse dynamics.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_invPosition(c_m, c_d)
     _m.check(status)
 
 
 def mj_invVelocity(m, d):
-    """Run velocity-dependent computations in inverse dynamics.
+    """mj_invVelocity(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Run velocity-dependent computations in inverse dynamics.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_invVelocity(c_m, c_d)
     _m.check(status)
 
 
 def mj_invConstraint(m, d):
-    """Apply the analytical formula for inverse constraint dynamics.
+    """mj_invConstraint(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Apply the analytical formula for inverse constraint dynamics.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_invConstraint(c_m, c_d)
     _m.check(status)
 
 
 def mj_compareFwdInv(m, d):
-    """Compare forward and inverse dynamics, save results in fwdinv.
+    """mj_compareFwdInv(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compare forward and inverse dynamics, save results in fwdinv.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_compareFwdInv(c_m, c_d)
     _m.check(status)
 
 
 def mj_sensorPos(m, d):
-    """Evaluate position-dependent sensors.
+    """mj_sensorPos(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Evaluate position-dependent sensors.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_sensorPos(c_m, c_d)
     _m.check(status)
 
 
 def mj_sensorVel(m, d):
-    """Evaluate velocity-dependent sensors.
+    """mj_sensorVel(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Evaluate velocity-dependent sensors.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_sensorVel(c_m, c_d)
     _m.check(status)
 
 
 def mj_sensorAcc(m, d):
-    """Evaluate acceleration and force-dependent sensors.
+    """mj_sensorAcc(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Evaluate acceleration and force-dependent sensors.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_sensorAcc(c_m, c_d)
     _m.check(status)
 
 
 def mj_energyPos(m, d):
-    """Evaluate position-dependent energy (potential).
+    """mj_energyPos(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Evaluate position-dependent energy (potential).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_energyPos(c_m, c_d)
     _m.check(status)
 
 
 def mj_energyVel(m, d):
-    """Evaluate velocity-dependent energy (kinetic).
+    """mj_energyVel(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Evaluate velocity-dependent energy (kinetic).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_energyVel(c_m, c_d)
     _m.check(status)
 
 
 def mj_checkPos(m, d):
-    """Check qpos, reset if any element is too big or nan.
+    """mj_checkPos(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Check qpos, reset if any element is too big or nan.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_checkPos(c_m, c_d)
     _m.check(status)
 
 
 def mj_checkVel(m, d):
-    """Check qvel, reset if any element is too big or nan.
+    """mj_checkVel(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Check qvel, reset if any element is too big or nan.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_checkVel(c_m, c_d)
     _m.check(status)
 
 
 def mj_checkAcc(m, d):
-    """Check qacc, reset if any element is too big or nan.
+    """mj_checkAcc(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Check qacc, reset if any element is too big or nan.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_checkAcc(c_m, c_d)
     _m.check(status)
 
 
 def mj_kinematics(m, d):
-    """Run forward kinematics.
+    """mj_kinematics(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Run forward kinematics.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_kinematics(c_m, c_d)
     _m.check(status)
 
 
 def mj_comPos(m, d):
-    """Map inertias and motion dofs to global frame centered at CoM.
+    """mj_comPos(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Map inertias and motion dofs to global frame centered at CoM.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_comPos(c_m, c_d)
     _m.check(status)
 
 
 def mj_camlight(m, d):
-    """Compute camera and light positions and orientations.
+    """mj_camlight(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compute camera and light positions and orientations.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_camlight(c_m, c_d)
     _m.check(status)
 
 
 def mj_flex(m, d):
-    """Compute flex-related quantities.
+    """mj_flex(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compute flex-related quantities.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_flex(c_m, c_d)
     _m.check(status)
 
 
 def mj_tendon(m, d):
-    """Compute tendon lengths, velocities and moment arms.
+    """mj_tendon(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compute tendon lengths, velocities and moment arms.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_tendon(c_m, c_d)
     _m.check(status)
 
 
 def mj_transmission(m, d):
-    """Compute actuator transmission lengths and moments.
+    """mj_transmission(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compute actuator transmission lengths and moments.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_transmission(c_m, c_d)
     _m.check(status)
 
 
 def mj_crb(m, d):
-    """Run composite rigid body inertia algorithm (CRB).
+    """mj_crb(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Run composite rigid body inertia algorithm (CRB).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_crb(c_m, c_d)
     _m.check(status)
 
 
 def mj_makeM(m, d):
-    """Make inertia matrix.
+    """mj_makeM(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Make inertia matrix.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_makeM(c_m, c_d)
     _m.check(status)
 
 
 def mj_factorM(m, d):
-    """Compute sparse L'*D*L factorizaton of inertia matrix.
+    """mj_factorM(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compute sparse L'*D*L factorizaton of inertia matrix.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_factorM(c_m, c_d)
     _m.check(status)
 
 
 def mj_solveM(m, d, x, y):
-    """Solve linear system M * x = y using factorization:  x = inv(L'*D*L)*y
+    """mj_solveM(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, x: numpy.typing.NDArray[numpy.float64], y: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    x: output array of shape (n, nv).
-    y: array of shape (n, nv).
-    """
+Solve linear system M * x = y using factorization:  x = inv(L'*D*L)*y
+
+x: output array of shape (n, nv).
+y: array of shape (n, nv).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     y, c_y = _m.array_in(y, _m.NUM, "y")
-    n = _m.dim(y, 2, 0, 1, "y")
-    x, c_x = _m.array_out(x, _m.NUM, "x", (n, c_m.nv))
-    _m.shape(y, (n, c_m.nv), "y")
+    n = _m.dim(y, 2, 0, 1, "y", ((1, 'the last dimension of y should be of size nv'),))
+    x, c_x = _m.array_out(x, _m.NUM, "x", (n, c_m.nv), ((0, 'the first dimension of x and y should be of the same size'), (1, 'the last dimension of x should be of size nv')))
+    _m.shape(y, (n, c_m.nv), "y", ((1, 'the last dimension of y should be of size nv'),))
     try:
         status = _lib.mjcffi_guard_mj_solveM(c_m, c_d, c_x, c_y, n)
     except (TypeError, OverflowError) as exc:
@@ -996,19 +1113,21 @@ def mj_solveM(m, d, x, y):
 
 
 def mj_solveM2(m, d, x, y, sqrtInvD):
-    """Half of linear solve:  x = sqrt(inv(D))*inv(L')*y
+    """mj_solveM2(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, x: numpy.typing.NDArray[numpy.float64], y: numpy.typing.NDArray[numpy.float64], sqrtInvD: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    x: output array of shape (n, nv).
-    y: array of shape (n, nv).
-    sqrtInvD: array of shape (nv,).
-    """
+Half of linear solve:  x = sqrt(inv(D))*inv(L')*y
+
+x: output array of shape (n, nv).
+y: array of shape (n, nv).
+sqrtInvD: array of the size of (nv,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     y, c_y = _m.array_in(y, _m.NUM, "y")
-    n = _m.dim(y, 2, 0, 1, "y")
-    x, c_x = _m.array_out(x, _m.NUM, "x", (n, c_m.nv))
-    _m.shape(y, (n, c_m.nv), "y")
-    sqrtInvD, c_sqrtInvD = _m.array_in(sqrtInvD, _m.NUM, "sqrtInvD", c_m.nv)
+    n = _m.dim(y, 2, 0, 1, "y", ((1, 'the last dimension of y should be of size nv'),))
+    x, c_x = _m.array_out(x, _m.NUM, "x", (n, c_m.nv), ((0, 'the first dimension of x and y should be of the same size'), (1, 'the last dimension of x should be of size nv')))
+    _m.shape(y, (n, c_m.nv), "y", ((1, 'the last dimension of y should be of size nv'),))
+    sqrtInvD, c_sqrtInvD = _m.array_in(sqrtInvD, _m.NUM, "sqrtInvD")
+    _m.size(sqrtInvD, (c_m.nv), "sqrtInvD", 'the size of sqrtInvD should be nv')
     try:
         status = _lib.mjcffi_guard_mj_solveM2(c_m, c_d, c_x, c_y, c_sqrtInvD, n)
     except (TypeError, OverflowError) as exc:
@@ -1017,43 +1136,44 @@ def mj_solveM2(m, d, x, y, sqrtInvD):
 
 
 def mj_comVel(m, d):
-    """Compute cvel, cdof_dot.
+    """mj_comVel(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compute cvel, cdof_dot.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_comVel(c_m, c_d)
     _m.check(status)
 
 
 def mj_passive(m, d):
-    """Compute qfrc_passive from spring-dampers, gravity compensation and fluid forces.
+    """mj_passive(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compute qfrc_passive from spring-dampers, gravity compensation and fluid forces.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_passive(c_m, c_d)
     _m.check(status)
 
 
 def mj_subtreeVel(m, d):
-    """Sub-tree linear velocity and angular momentum: compute subtree_linvel, subtree_angmom.
+    """mj_subtreeVel(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Sub-tree linear velocity and angular momentum: compute subtree_linvel, subtree_angmom.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_subtreeVel(c_m, c_d)
     _m.check(status)
 
 
 def mj_rne(m, d, flg_acc, result):
-    """RNE: compute M(qpos)*qacc + C(qpos,qvel); flg_acc=0 removes inertial term.
+    """mj_rne(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, flg_acc: int, result: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    result: output array of shape (nv,).
-    """
+RNE: compute M(qpos)*qacc + C(qpos,qvel); flg_acc=0 removes inertial term.
+
+result: output array of shape (nv,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    result, c_result = _m.array_out(result, _m.NUM, "result", c_m.nv)
+    result, c_result = _m.array_out(result, _m.NUM, "result", c_m.nv, 'result should have length nv')
     try:
         status = _lib.mjcffi_guard_mj_rne(c_m, c_d, flg_acc, c_result)
     except (TypeError, OverflowError) as exc:
@@ -1062,23 +1182,25 @@ def mj_rne(m, d, flg_acc, result):
 
 
 def mj_rnePostConstraint(m, d):
-    """RNE with complete data: compute cacc, cfrc_ext, cfrc_int.
+    """mj_rnePostConstraint(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+RNE with complete data: compute cacc, cfrc_ext, cfrc_int.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_rnePostConstraint(c_m, c_d)
     _m.check(status)
 
 
 def mj_maxContact(m, g1, g2, has_margin):
-    """Return the maximum number of contacts that can be generated between two geoms.
-    If has_margin is -1, then the margin is pulled from the model, otherwise if has_margin > 0
-    indicates that the geoms have a positive margin.
+    """mj_maxContact(m: mujoco._structs.MjModel, g1: int, g2: int, has_margin: int) -> int
 
-    g1 must be within 0..ngeom-1.
-    g2 must be within 0..ngeom-1.
-    """
+Return the maximum number of contacts that can be generated between two geoms.
+If has_margin is -1, then the margin is pulled from the model, otherwise if has_margin > 0
+indicates that the geoms have a positive margin.
+
+g1 must be within 0..ngeom-1.
+g2 must be within 0..ngeom-1.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     _m.index(g1, c_m.ngeom, "g1", 0)
     _m.index(g2, c_m.ngeom, "g2", 0)
@@ -1092,65 +1214,66 @@ def mj_maxContact(m, g1, g2, has_margin):
 
 
 def mj_collision(m, d):
-    """Run collision detection.
+    """mj_collision(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Run collision detection.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_collision(c_m, c_d)
     _m.check(status)
 
 
 def mj_makeConstraint(m, d):
-    """Construct constraints.
+    """mj_makeConstraint(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Construct constraints.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_makeConstraint(c_m, c_d)
     _m.check(status)
 
 
 def mj_island(m, d):
-    """Find constraint islands.
+    """mj_island(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Find constraint islands.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_island(c_m, c_d)
     _m.check(status)
 
 
 def mj_projectConstraint(m, d):
-    """Compute inverse constraint inertia efc_AR.
+    """mj_projectConstraint(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compute inverse constraint inertia efc_AR.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_projectConstraint(c_m, c_d)
     _m.check(status)
 
 
 def mj_referenceConstraint(m, d):
-    """Compute efc_vel, efc_aref.
+    """mj_referenceConstraint(m: mujoco._structs.MjModel, d: mujoco._structs.MjData) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Compute efc_vel, efc_aref.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     status = _lib.mjcffi_guard_mj_referenceConstraint(c_m, c_d)
     _m.check(status)
 
 
 def mj_constraintUpdate(m, d, jar, cost, flg_coneHessian):
-    """Compute efc_state, efc_force, qfrc_constraint, and (optionally) cone Hessians.
-    If cost is not NULL, set *cost = s(jar) where jar = Jac*qacc-aref.
+    """mj_constraintUpdate(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, jar: numpy.typing.NDArray[numpy.float64], cost: numpy.typing.NDArray[numpy.float64] | None, flg_coneHessian: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    jar: array of shape (nefc,).
-    cost: output array of shape (1,) or None.
-    """
+Compute efc_state, efc_force, qfrc_constraint, and (optionally) cone Hessians.
+If cost is not NULL, set *cost = s(jar) where jar = Jac*qacc-aref.
+
+jar: array of shape (nefc,).
+cost: output array of shape (1,) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    jar, c_jar = _m.array_in(jar, _m.NUM, "jar", c_d.nefc)
+    jar, c_jar = _m.array_in(jar, _m.NUM, "jar", c_d.nefc, 'size of jar should equal nefc')
     cost, c_cost = _m.opt_out(cost, _m.NUM, "cost", 1)
     try:
         status = _lib.mjcffi_guard_mj_constraintUpdate(c_m, c_d, c_jar, c_cost, flg_coneHessian)
@@ -1161,7 +1284,10 @@ def mj_constraintUpdate(m, d, jar, cost, flg_coneHessian):
 
 
 def mj_stateSize(m, sig):
-    """Return size of state signature."""
+    """mj_stateSize(m: mujoco._structs.MjModel, sig: int) -> int
+
+Return size of state signature.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     try:
         ret = _lib.mjcffi_guard_mj_stateSize(c_m, sig)
@@ -1172,13 +1298,14 @@ def mj_stateSize(m, sig):
 
 
 def mj_getState(m, d, state, sig):
-    """Get state.
+    """mj_getState(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, state: numpy.typing.NDArray[numpy.float64], sig: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    state: output array of shape (state_size(m, sig),).
-    """
+Get state.
+
+state: output array of shape (state_size(m, sig),).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    state, c_state = _m.array_out(state, _m.NUM, "state", _m.state_size(c_m, sig))
+    state, c_state = _m.array_out(state, _m.NUM, "state", _m.state_size(c_m, sig), 'state size should equal mj_stateSize(m, sig)')
     try:
         status = _lib.mjcffi_guard_mj_getState(c_m, c_d, c_state, sig)
     except (TypeError, OverflowError) as exc:
@@ -1187,14 +1314,16 @@ def mj_getState(m, d, state, sig):
 
 
 def mj_extractState(m, src, srcsig, dst, dstsig):
-    """Extract a subset of components from a state previously obtained via mj_getState.
+    """mj_extractState(m: mujoco._structs.MjModel, src: numpy.typing.NDArray[numpy.float64], srcsig: int, dst: numpy.typing.NDArray[numpy.float64], dstsig: int) -> None
 
-    src: array of shape (state_size(m, srcsig, 'srcsig'),).
-    dst: output array of shape (state_size(m, dstsig, 'dstsig'),).
-    """
+Extract a subset of components from a state previously obtained via mj_getState.
+
+src: array of shape (state_size(m, srcsig, 'srcsig'),).
+dst: output array of shape (state_size(m, dstsig, 'dstsig'),).
+"""
     c_m = _m.struct(m, "mjModel", "m")
-    src, c_src = _m.array_in(src, _m.NUM, "src", _m.state_size(c_m, srcsig, 'srcsig'))
-    dst, c_dst = _m.array_out(dst, _m.NUM, "dst", _m.state_size(c_m, dstsig, 'dstsig'))
+    src, c_src = _m.array_in(src, _m.NUM, "src", _m.state_size(c_m, srcsig, 'srcsig'), 'src size should equal mj_stateSize(m, srcsig)')
+    dst, c_dst = _m.array_out(dst, _m.NUM, "dst", _m.state_size(c_m, dstsig, 'dstsig'), 'dst size should equal mj_stateSize(m, dstsig)')
     try:
         status = _lib.mjcffi_guard_mj_extractState(c_m, c_src, srcsig, c_dst, dstsig)
     except (TypeError, OverflowError) as exc:
@@ -1204,13 +1333,14 @@ def mj_extractState(m, src, srcsig, dst, dstsig):
 
 
 def mj_setState(m, d, state, sig):
-    """Set state.
+    """mj_setState(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, state: numpy.typing.NDArray[numpy.float64], sig: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    state: array of shape (state_size(m, sig),).
-    """
+Set state.
+
+state: array of shape (state_size(m, sig),).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    state, c_state = _m.array_in(state, _m.NUM, "state", _m.state_size(c_m, sig))
+    state, c_state = _m.array_in(state, _m.NUM, "state", _m.state_size(c_m, sig), 'state size should equal mj_stateSize(m, sig)')
     try:
         status = _lib.mjcffi_guard_mj_setState(c_m, c_d, c_state, sig)
     except (TypeError, OverflowError) as exc:
@@ -1219,10 +1349,10 @@ def mj_setState(m, d, state, sig):
 
 
 def mj_copyState(m, src, dst, sig):
-    """Copy state from src to dst.
+    """mj_copyState(m: mujoco._structs.MjModel, src: mujoco._structs.MjData, dst: mujoco._structs.MjData, sig: int) -> None
 
-    src, dst must be made for m (or for a model of the same sizes).
-    """
+Copy state from src to dst.
+"""
     c_m, c_src = _m.model_data(m, src, "m", "src")
     c_dst = _m.data_of(m, dst, "m", "dst")
     try:
@@ -1233,61 +1363,64 @@ def mj_copyState(m, src, dst, sig):
 
 
 def mj_readCtrl(m, d, id, time, result, interp):
-    """Read ctrl value for actuator at given time.
-    Returns pointer to ctrl (no history) or history buffer (exact match),
-    or NULL if interpolation performed (writes to result).
-    interp: 0=zero-order-hold, 1=linear, 2=cubic spline.
+    """mj_readCtrl(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, id: int, time: float, result: numpy.typing.NDArray[numpy.float64], interp: int) -> numpy.typing.NDArray[numpy.float64]
 
-    d must be made for m (or for a model of the same sizes).
-    id must be within 0..nu-1.
-    result: output array of shape (actuator_ctrlnum[id],).
-    """
+Read ctrl value for actuator at given time.
+Returns pointer to ctrl (no history) or history buffer (exact match),
+or NULL if interpolation performed (writes to result).
+interp: 0=zero-order-hold, 1=linear, 2=cubic spline.
+
+id must be within 0..nu-1.
+result: output array of shape (actuator_ctrlnum[id],).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(id, c_m.nu, "id", 0)
-    result, c_result = _m.array_out(result, _m.NUM, "result", c_m.actuator_ctrlnum[id])
+    _m.index(id, c_m.nu, "id", 0, 'actuator id out of range')
+    result, c_result = _m.array_out(result, _m.NUM, "result", c_m.actuator_ctrlnum[id], 'result should have length actuator_ctrlnum[id]')
     try:
         ret = _lib.mjcffi_guard_mj_readCtrl(c_m, c_d, id, time, c_result, interp)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_readCtrl", {
             "id": ("int", id), "time": ("mjtNum", time), "interp": ("int", interp)}) from None
     _m.check_error()
-    return _m.copy_array(ret, c_m.actuator_ctrlnum[id], _m.NUM) if ret != _m.NULL else result
+    return _m.fill(result, ret, c_m.actuator_ctrlnum[id])
 
 
 def mj_readSensor(m, d, id, time, result, interp):
-    """Read sensor value from history buffer at given time.
-    Returns pointer to sensordata (no history) or history buffer (exact match),
-    or NULL if interpolation performed (writes to result).
-    interp: 0=zero-order-hold, 1=linear, 2=cubic spline.
+    """mj_readSensor(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, id: int, time: float, result: numpy.typing.NDArray[numpy.float64], interp: int) -> numpy.typing.NDArray[numpy.float64]
 
-    d must be made for m (or for a model of the same sizes).
-    id must be within 0..nsensor-1.
-    result: output array of shape (sensor_dim[id],).
-    """
+Read sensor value from history buffer at given time.
+Returns pointer to sensordata (no history) or history buffer (exact match),
+or NULL if interpolation performed (writes to result).
+interp: 0=zero-order-hold, 1=linear, 2=cubic spline.
+
+id must be within 0..nsensor-1.
+result: output array of shape (sensor_dim[id],).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(id, c_m.nsensor, "id", 0)
-    result, c_result = _m.array_out(result, _m.NUM, "result", c_m.sensor_dim[id])
+    _m.index(id, c_m.nsensor, "id", 0, 'sensor id out of range')
+    result, c_result = _m.array_out(result, _m.NUM, "result", c_m.sensor_dim[id], 'result should have length sensor_dim[id]')
     try:
         ret = _lib.mjcffi_guard_mj_readSensor(c_m, c_d, id, time, c_result, interp)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_readSensor", {
             "id": ("int", id), "time": ("mjtNum", time), "interp": ("int", interp)}) from None
     _m.check_error()
-    return _m.copy_array(ret, c_m.sensor_dim[id], _m.NUM) if ret != _m.NULL else result
+    return _m.fill(result, ret, c_m.sensor_dim[id])
 
 
 def mj_initCtrlHistory(m, d, id, times, values):
-    """Initialize history buffer for actuator; if times is NULL, uses existing buffer timestamps.
+    """mj_initCtrlHistory(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, id: int, times: numpy.typing.NDArray[numpy.float64] | None, values: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    id must be within 0..nu-1.
-    times: array of shape (actuator_history[2*id],) or None.
-    values: array of shape (actuator_history[2*id], actuator_ctrlnum[id]).
-    """
+Initialize history buffer for actuator; if times is NULL, uses existing buffer timestamps.
+
+id must be within 0..nu-1.
+times: array of shape (actuator_history[2*id],) or None.
+values: array of shape (actuator_history[2*id], actuator_ctrlnum[id]).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(id, c_m.nu, "id", 0)
-    times, c_times = _m.opt_in(times, _m.NUM, "times", c_m.actuator_history[2*id])
-    values, c_values = _m.array_in(values, _m.NUM, "values", (c_m.actuator_history[2*id], c_m.actuator_ctrlnum[id]))
+    _m.index(id, c_m.nu, "id", 0, 'actuator id out of range')
+    times, c_times = _m.opt_in(times, _m.NUM, "times", c_m.actuator_history[2*id], 'times should have length actuator_history[2*id]')
+    values, c_values = _m.array_in(values, _m.NUM, "values", (c_m.actuator_history[2*id], c_m.actuator_ctrlnum[id]), 'values should have shape (actuator_history[2*id], actuator_ctrlnum[id])')
     try:
         status = _lib.mjcffi_guard_mj_initCtrlHistory(c_m, c_d, id, c_times, c_values)
     except (TypeError, OverflowError) as exc:
@@ -1296,18 +1429,19 @@ def mj_initCtrlHistory(m, d, id, times, values):
 
 
 def mj_initSensorHistory(m, d, id, times, values, phase):
-    """Initialize history buffer for sensor; if times is NULL, uses existing buffer timestamps.
-    phase sets the user slot (last computation time for interval sensors).
+    """mj_initSensorHistory(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, id: int, times: numpy.typing.NDArray[numpy.float64] | None, values: numpy.typing.NDArray[numpy.float64], phase: float) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    id must be within 0..nsensor-1.
-    times: array of shape (sensor_history[2*id],) or None.
-    values: array of shape (sensor_history[2*id], sensor_dim[id]).
-    """
+Initialize history buffer for sensor; if times is NULL, uses existing buffer timestamps.
+phase sets the user slot (last computation time for interval sensors).
+
+id must be within 0..nsensor-1.
+times: array of shape (sensor_history[2*id],) or None.
+values: array of shape (sensor_history[2*id], sensor_dim[id]).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(id, c_m.nsensor, "id", 0)
-    times, c_times = _m.opt_in(times, _m.NUM, "times", c_m.sensor_history[2*id])
-    values, c_values = _m.array_in(values, _m.NUM, "values", (c_m.sensor_history[2*id], c_m.sensor_dim[id]))
+    _m.index(id, c_m.nsensor, "id", 0, 'sensor id out of range')
+    times, c_times = _m.opt_in(times, _m.NUM, "times", c_m.sensor_history[2*id], 'times should have length sensor_history[2*id]')
+    values, c_values = _m.array_in(values, _m.NUM, "values", (c_m.sensor_history[2*id], c_m.sensor_dim[id]), 'values should have shape (sensor_history[2*id], sensor_dim[id])')
     try:
         status = _lib.mjcffi_guard_mj_initSensorHistory(c_m, c_d, id, c_times, c_values, phase)
     except (TypeError, OverflowError) as exc:
@@ -1317,10 +1451,10 @@ def mj_initSensorHistory(m, d, id, times, values, phase):
 
 
 def mj_setKeyframe(m, d, k):
-    """Copy current state to the k-th model keyframe.
+    """mj_setKeyframe(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, k: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Copy current state to the k-th model keyframe.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     try:
         status = _lib.mjcffi_guard_mj_setKeyframe(c_m, c_d, k)
@@ -1330,10 +1464,10 @@ def mj_setKeyframe(m, d, k):
 
 
 def mj_addContact(m, d, con):
-    """Add contact to d->contact list; return 0 if success; 1 if buffer full.
+    """mj_addContact(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, con: mujoco._structs.MjContact) -> int
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Add contact to d->contact list; return 0 if success; 1 if buffer full.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_con = _m.struct(con, "mjContact", "con")
     ret = _lib.mjcffi_guard_mj_addContact(c_m, c_d, c_con)
@@ -1342,7 +1476,10 @@ def mj_addContact(m, d, con):
 
 
 def mj_isPyramidal(m):
-    """Determine type of friction cone."""
+    """mj_isPyramidal(m: mujoco._structs.MjModel) -> int
+
+Determine type of friction cone.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     ret = _lib.mjcffi_guard_mj_isPyramidal(c_m)
     _m.check_error()
@@ -1350,7 +1487,10 @@ def mj_isPyramidal(m):
 
 
 def mj_isSparse(m):
-    """Determine type of constraint Jacobian."""
+    """mj_isSparse(m: mujoco._structs.MjModel) -> int
+
+Determine type of constraint Jacobian.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     ret = _lib.mjcffi_guard_mj_isSparse(c_m)
     _m.check_error()
@@ -1358,7 +1498,10 @@ def mj_isSparse(m):
 
 
 def mj_isDual(m):
-    """Determine type of solver (PGS is dual, CG and Newton are primal)."""
+    """mj_isDual(m: mujoco._structs.MjModel) -> int
+
+Determine type of solver (PGS is dual, CG and Newton are primal).
+"""
     c_m = _m.struct(m, "mjModel", "m")
     ret = _lib.mjcffi_guard_mj_isDual(c_m)
     _m.check_error()
@@ -1366,46 +1509,49 @@ def mj_isDual(m):
 
 
 def mj_mulJacVec(m, d, res, vec):
-    """Multiply dense or sparse constraint Jacobian by vector.
+    """mj_mulJacVec(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    res: output array of shape (nefc,).
-    vec: array of shape (nv,).
-    """
+Multiply dense or sparse constraint Jacobian by vector.
+
+res: output array of shape (nefc,).
+vec: array of shape (nv,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    res, c_res = _m.array_out(res, _m.NUM, "res", c_d.nefc)
-    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", c_m.nv)
+    res, c_res = _m.array_out(res, _m.NUM, "res", c_d.nefc, 'res should be of length nefc')
+    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", c_m.nv, 'vec should be of length nv')
     status = _lib.mjcffi_guard_mj_mulJacVec(c_m, c_d, c_res, c_vec)
     _m.check(status)
 
 
 def mj_mulJacTVec(m, d, res, vec):
-    """Multiply dense or sparse constraint Jacobian transpose by vector.
+    """mj_mulJacTVec(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    res: output array of shape (nv,).
-    vec: array of shape (nefc,).
-    """
+Multiply dense or sparse constraint Jacobian transpose by vector.
+
+res: output array of shape (nv,).
+vec: array of shape (nefc,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    res, c_res = _m.array_out(res, _m.NUM, "res", c_m.nv)
-    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", c_d.nefc)
+    res, c_res = _m.array_out(res, _m.NUM, "res", c_m.nv, 'res should be of length nv')
+    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", c_d.nefc, 'vec should be of length nefc')
     status = _lib.mjcffi_guard_mj_mulJacTVec(c_m, c_d, c_res, c_vec)
     _m.check(status)
 
 
 def mj_jac(m, d, jacp, jacr, point, body):
-    """Compute 3/6-by-nv end-effector Jacobian of global point attached to given body.
+    """mj_jac(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, jacp: numpy.typing.NDArray[numpy.float64] | None, jacr: numpy.typing.NDArray[numpy.float64] | None, point: numpy.typing.NDArray[numpy.float64], body: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    body must be within 0..nbody-1.
-    jacp: output array of shape (3, nv) or None.
-    jacr: output array of shape (3, nv) or None.
-    point: array of shape (3,).
-    """
+Compute 3/6-by-nv end-effector Jacobian of global point attached to given body.
+
+body must be within 0..nbody-1.
+jacp: output array of shape (3, nv) or None.
+jacr: output array of shape (3, nv) or None.
+point: array of shape (3,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(body, c_m.nbody, "body", 0)
-    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv))
-    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv))
+    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
+    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     point, c_point = _m.array_in(point, _m.NUM, "point", 3)
     try:
         status = _lib.mjcffi_guard_mj_jac(c_m, c_d, c_jacp, c_jacr, c_point, body)
@@ -1415,17 +1561,18 @@ def mj_jac(m, d, jacp, jacr, point, body):
 
 
 def mj_jacBody(m, d, jacp, jacr, body):
-    """Compute body frame end-effector Jacobian.
+    """mj_jacBody(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, jacp: numpy.typing.NDArray[numpy.float64] | None, jacr: numpy.typing.NDArray[numpy.float64] | None, body: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    body must be within 0..nbody-1.
-    jacp: output array of shape (3, nv) or None.
-    jacr: output array of shape (3, nv) or None.
-    """
+Compute body frame end-effector Jacobian.
+
+body must be within 0..nbody-1.
+jacp: output array of shape (3, nv) or None.
+jacr: output array of shape (3, nv) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(body, c_m.nbody, "body", 0)
-    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv))
-    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv))
+    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
+    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     try:
         status = _lib.mjcffi_guard_mj_jacBody(c_m, c_d, c_jacp, c_jacr, body)
     except (TypeError, OverflowError) as exc:
@@ -1434,17 +1581,18 @@ def mj_jacBody(m, d, jacp, jacr, body):
 
 
 def mj_jacBodyCom(m, d, jacp, jacr, body):
-    """Compute body center-of-mass end-effector Jacobian.
+    """mj_jacBodyCom(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, jacp: numpy.typing.NDArray[numpy.float64] | None, jacr: numpy.typing.NDArray[numpy.float64] | None, body: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    body must be within 0..nbody-1.
-    jacp: output array of shape (3, nv) or None.
-    jacr: output array of shape (3, nv) or None.
-    """
+Compute body center-of-mass end-effector Jacobian.
+
+body must be within 0..nbody-1.
+jacp: output array of shape (3, nv) or None.
+jacr: output array of shape (3, nv) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(body, c_m.nbody, "body", 0)
-    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv))
-    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv))
+    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
+    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     try:
         status = _lib.mjcffi_guard_mj_jacBodyCom(c_m, c_d, c_jacp, c_jacr, body)
     except (TypeError, OverflowError) as exc:
@@ -1453,15 +1601,16 @@ def mj_jacBodyCom(m, d, jacp, jacr, body):
 
 
 def mj_jacSubtreeCom(m, d, jacp, body):
-    """Compute subtree center-of-mass end-effector Jacobian.
+    """mj_jacSubtreeCom(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, jacp: numpy.typing.NDArray[numpy.float64], body: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    body must be within 0..nbody-1.
-    jacp: output array of shape (3, nv).
-    """
+Compute subtree center-of-mass end-effector Jacobian.
+
+body must be within 0..nbody-1.
+jacp: output array of shape (3, nv).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(body, c_m.nbody, "body", 0)
-    jacp, c_jacp = _m.array_out(jacp, _m.NUM, "jacp", (3, c_m.nv))
+    jacp, c_jacp = _m.array_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
     try:
         status = _lib.mjcffi_guard_mj_jacSubtreeCom(c_m, c_d, c_jacp, body)
     except (TypeError, OverflowError) as exc:
@@ -1470,17 +1619,18 @@ def mj_jacSubtreeCom(m, d, jacp, body):
 
 
 def mj_jacGeom(m, d, jacp, jacr, geom):
-    """Compute geom end-effector Jacobian.
+    """mj_jacGeom(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, jacp: numpy.typing.NDArray[numpy.float64] | None, jacr: numpy.typing.NDArray[numpy.float64] | None, geom: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    geom must be within 0..ngeom-1.
-    jacp: output array of shape (3, nv) or None.
-    jacr: output array of shape (3, nv) or None.
-    """
+Compute geom end-effector Jacobian.
+
+geom must be within 0..ngeom-1.
+jacp: output array of shape (3, nv) or None.
+jacr: output array of shape (3, nv) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(geom, c_m.ngeom, "geom", 0)
-    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv))
-    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv))
+    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
+    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     try:
         status = _lib.mjcffi_guard_mj_jacGeom(c_m, c_d, c_jacp, c_jacr, geom)
     except (TypeError, OverflowError) as exc:
@@ -1489,17 +1639,18 @@ def mj_jacGeom(m, d, jacp, jacr, geom):
 
 
 def mj_jacSite(m, d, jacp, jacr, site):
-    """Compute site end-effector Jacobian.
+    """mj_jacSite(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, jacp: numpy.typing.NDArray[numpy.float64] | None, jacr: numpy.typing.NDArray[numpy.float64] | None, site: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    site must be within 0..nsite-1.
-    jacp: output array of shape (3, nv) or None.
-    jacr: output array of shape (3, nv) or None.
-    """
+Compute site end-effector Jacobian.
+
+site must be within 0..nsite-1.
+jacp: output array of shape (3, nv) or None.
+jacr: output array of shape (3, nv) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(site, c_m.nsite, "site", 0)
-    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv))
-    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv))
+    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
+    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     try:
         status = _lib.mjcffi_guard_mj_jacSite(c_m, c_d, c_jacp, c_jacr, site)
     except (TypeError, OverflowError) as exc:
@@ -1508,19 +1659,20 @@ def mj_jacSite(m, d, jacp, jacr, site):
 
 
 def mj_jacPointAxis(m, d, jacPoint, jacAxis, point, axis, body):
-    """Compute translation end-effector Jacobian of point, and rotation Jacobian of axis.
+    """mj_jacPointAxis(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, jacPoint: numpy.typing.NDArray[numpy.float64] | None, jacAxis: numpy.typing.NDArray[numpy.float64] | None, point: numpy.typing.NDArray[numpy.float64], axis: numpy.typing.NDArray[numpy.float64], body: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    body must be within 0..nbody-1.
-    jacPoint: output array of shape (3, nv) or None.
-    jacAxis: output array of shape (3, nv) or None.
-    point: array of shape (3,).
-    axis: array of shape (3,).
-    """
+Compute translation end-effector Jacobian of point, and rotation Jacobian of axis.
+
+body must be within 0..nbody-1.
+jacPoint: output array of shape (3, nv) or None.
+jacAxis: output array of shape (3, nv) or None.
+point: array of shape (3,).
+axis: array of shape (3,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(body, c_m.nbody, "body", 0)
-    jacPoint, c_jacPoint = _m.opt_out(jacPoint, _m.NUM, "jacPoint", (3, c_m.nv))
-    jacAxis, c_jacAxis = _m.opt_out(jacAxis, _m.NUM, "jacAxis", (3, c_m.nv))
+    jacPoint, c_jacPoint = _m.opt_out(jacPoint, _m.NUM, "jacPoint", (3, c_m.nv), 'jacp should be of shape (3, nv)')
+    jacAxis, c_jacAxis = _m.opt_out(jacAxis, _m.NUM, "jacAxis", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     point, c_point = _m.array_in(point, _m.NUM, "point", 3)
     axis, c_axis = _m.array_in(axis, _m.NUM, "axis", 3)
     try:
@@ -1532,18 +1684,19 @@ def mj_jacPointAxis(m, d, jacPoint, jacAxis, point, axis, body):
 
 
 def mj_jacDot(m, d, jacp, jacr, point, body):
-    """Compute 3/6-by-nv Jacobian time derivative of global point attached to given body.
+    """mj_jacDot(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, jacp: numpy.typing.NDArray[numpy.float64] | None, jacr: numpy.typing.NDArray[numpy.float64] | None, point: numpy.typing.NDArray[numpy.float64], body: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    body must be within 0..nbody-1.
-    jacp: output array of shape (3, nv) or None.
-    jacr: output array of shape (3, nv) or None.
-    point: array of shape (3,).
-    """
+Compute 3/6-by-nv Jacobian time derivative of global point attached to given body.
+
+body must be within 0..nbody-1.
+jacp: output array of shape (3, nv) or None.
+jacr: output array of shape (3, nv) or None.
+point: array of shape (3,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(body, c_m.nbody, "body", 0)
-    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv))
-    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv))
+    jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
+    jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     point, c_point = _m.array_in(point, _m.NUM, "point", 3)
     try:
         status = _lib.mjcffi_guard_mj_jacDot(c_m, c_d, c_jacp, c_jacr, c_point, body)
@@ -1553,15 +1706,16 @@ def mj_jacDot(m, d, jacp, jacr, point, body):
 
 
 def mj_angmomMat(m, d, mat, body):
-    """Compute subtree angular momentum matrix.
+    """mj_angmomMat(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, mat: numpy.typing.NDArray[numpy.float64], body: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    body must be within 0..nbody-1.
-    mat: output array of shape (3, nv).
-    """
+Compute subtree angular momentum matrix.
+
+body must be within 0..nbody-1.
+mat: output array of shape (3, nv).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(body, c_m.nbody, "body", 0)
-    mat, c_mat = _m.array_out(mat, _m.NUM, "mat", (3, c_m.nv))
+    mat, c_mat = _m.array_out(mat, _m.NUM, "mat", (3, c_m.nv), 'mat should be of shape (3, nv)')
     try:
         status = _lib.mjcffi_guard_mj_angmomMat(c_m, c_d, c_mat, body)
     except (TypeError, OverflowError) as exc:
@@ -1570,7 +1724,10 @@ def mj_angmomMat(m, d, mat, body):
 
 
 def mj_name2id(m, type, name):
-    """Get id of object with the specified mjtObj type and name; return -1 if id not found."""
+    """mj_name2id(m: mujoco._structs.MjModel, type: int, name: str) -> int
+
+Get id of object with the specified mjtObj type and name; return -1 if id not found.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_name = _m.text(name, "name")
     try:
@@ -1582,7 +1739,10 @@ def mj_name2id(m, type, name):
 
 
 def mj_id2name(m, type, id):
-    """Get name of object with the specified mjtObj type and id; return NULL if name not found."""
+    """mj_id2name(m: mujoco._structs.MjModel, type: int, id: int) -> str
+
+Get name of object with the specified mjtObj type and id; return NULL if name not found.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     try:
         ret = _lib.mjcffi_guard_mj_id2name(c_m, type, id)
@@ -1594,9 +1754,11 @@ def mj_id2name(m, type, id):
 
 
 def mj_actuatorInputName(m, id, input):
-    """Get name of actuator input, determined by the actuator type and input signature;
-    return NULL if the actuator type defines no input names.
-    """
+    """mj_actuatorInputName(m: mujoco._structs.MjModel, id: int, input: int) -> str
+
+Get name of actuator input, determined by the actuator type and input signature;
+return NULL if the actuator type defines no input names.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     try:
         ret = _lib.mjcffi_guard_mj_actuatorInputName(c_m, id, input)
@@ -1608,52 +1770,56 @@ def mj_actuatorInputName(m, id, input):
 
 
 def mj_fullM(m, d, dst):
-    """Convert sparse inertia matrix into full (i.e. dense) matrix.
+    """mj_fullM(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, dst: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    dst: output array of shape (nv, nv).
-    """
+Convert sparse inertia matrix into full (i.e. dense) matrix.
+
+dst: output array of shape (nv, nv).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    dst, c_dst = _m.array_out(dst, _m.NUM, "dst", (c_m.nv, c_m.nv))
+    dst, c_dst = _m.array_out(dst, _m.NUM, "dst", (c_m.nv, c_m.nv), 'dst should be of shape (nv, nv)')
     status = _lib.mjcffi_guard_mj_fullM(c_m, c_d, c_dst)
     _m.check(status)
 
 
 def mj_mulM(m, d, res, vec):
-    """Multiply vector by inertia matrix.
+    """mj_mulM(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    res: output array of shape (nv,).
-    vec: array of shape (nv,).
-    """
+Multiply vector by inertia matrix.
+
+res: output array of shape (nv,).
+vec: array of shape (nv,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    res, c_res = _m.array_out(res, _m.NUM, "res", c_m.nv)
-    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", c_m.nv)
+    res, c_res = _m.array_out(res, _m.NUM, "res", c_m.nv, 'res should be of size nv')
+    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", c_m.nv, 'vec should be of size nv')
     status = _lib.mjcffi_guard_mj_mulM(c_m, c_d, c_res, c_vec)
     _m.check(status)
 
 
 def mj_mulM2(m, d, res, vec):
-    """Multiply vector by (inertia matrix)^(1/2).
+    """mj_mulM2(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    res: output array of shape (nv,).
-    vec: array of shape (nv,).
-    """
+Multiply vector by (inertia matrix)^(1/2).
+
+res: output array of shape (nv,).
+vec: array of shape (nv,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    res, c_res = _m.array_out(res, _m.NUM, "res", c_m.nv)
-    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", c_m.nv)
+    res, c_res = _m.array_out(res, _m.NUM, "res", c_m.nv, 'res should be of size nv')
+    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", c_m.nv, 'vec should be of size nv')
     status = _lib.mjcffi_guard_mj_mulM2(c_m, c_d, c_res, c_vec)
     _m.check(status)
 
 
 def mj_addM(m, d, dst, rownnz=None, rowadr=None, colind=None):
-    """Add inertia matrix to destination matrix (lower triangle only).
-    Destination can be sparse or dense when all int* are NULL.
+    """mj_addM(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, dst: numpy.typing.NDArray[numpy.float64], rownnz: numpy.typing.NDArray[numpy.int32] | None = None, rowadr: numpy.typing.NDArray[numpy.int32] | None = None, colind: numpy.typing.NDArray[numpy.int32] | None = None) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    dst: output array of shape (nv, nv).
-    """
+Add inertia matrix to destination matrix (lower triangle only).
+Destination can be sparse or dense when all int* are NULL.
+
+dst: output array of shape (nv, nv).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     dst, c_dst = _m.array_out(dst, _m.NUM, "dst", (c_m.nv, c_m.nv))
     rownnz, c_rownnz = _m.opt_out(rownnz, _m.INT, "rownnz")
@@ -1665,21 +1831,22 @@ def mj_addM(m, d, dst, rownnz=None, rowadr=None, colind=None):
 
 
 def mj_applyFT(m, d, force, torque, point, body, qfrc_target):
-    """Apply Cartesian force and torque (outside xfrc_applied mechanism).
+    """mj_applyFT(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, force: numpy.typing.NDArray[numpy.float64] | None, torque: numpy.typing.NDArray[numpy.float64] | None, point: numpy.typing.NDArray[numpy.float64], body: int, qfrc_target: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    body must be within 0..nbody-1.
-    force: array of shape (3,) or None.
-    torque: array of shape (3,) or None.
-    point: array of shape (3,).
-    qfrc_target: output array of shape (nv,).
-    """
+Apply Cartesian force and torque (outside xfrc_applied mechanism).
+
+body must be within 0..nbody-1.
+force: array of shape (3,) or None.
+torque: array of shape (3,) or None.
+point: array of shape (3,).
+qfrc_target: output array of shape (nv,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(body, c_m.nbody, "body", 0)
+    qfrc_target, c_qfrc_target = _m.array_out(qfrc_target, _m.NUM, "qfrc_target", c_m.nv, 'qfrc_target should be of size nv')
     force, c_force = _m.opt_in(force, _m.NUM, "force", 3)
     torque, c_torque = _m.opt_in(torque, _m.NUM, "torque", 3)
     point, c_point = _m.array_in(point, _m.NUM, "point", 3)
-    qfrc_target, c_qfrc_target = _m.array_out(qfrc_target, _m.NUM, "qfrc_target", c_m.nv)
     try:
         status = _lib.mjcffi_guard_mj_applyFT(
             c_m, c_d, c_force, c_torque, c_point, body, c_qfrc_target)
@@ -1689,11 +1856,12 @@ def mj_applyFT(m, d, force, torque, point, body, qfrc_target):
 
 
 def mj_objectVelocity(m, d, objtype, objid, res, flg_local):
-    """Compute object 6D velocity (rot:lin) in object-centered frame, world/local orientation.
+    """mj_objectVelocity(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, objtype: int, objid: int, res: numpy.typing.NDArray[numpy.float64], flg_local: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    res: output array of shape (6,).
-    """
+Compute object 6D velocity (rot:lin) in object-centered frame, world/local orientation.
+
+res: output array of shape (6,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     res, c_res = _m.array_out(res, _m.NUM, "res", 6)
     _m.object_id(c_m, objtype, objid)
@@ -1706,11 +1874,12 @@ def mj_objectVelocity(m, d, objtype, objid, res, flg_local):
 
 
 def mj_objectAcceleration(m, d, objtype, objid, res, flg_local):
-    """Compute object 6D acceleration (rot:lin) in object-centered frame, world/local orientation.
+    """mj_objectAcceleration(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, objtype: int, objid: int, res: numpy.typing.NDArray[numpy.float64], flg_local: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    res: output array of shape (6,).
-    """
+Compute object 6D acceleration (rot:lin) in object-centered frame, world/local orientation.
+
+res: output array of shape (6,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     res, c_res = _m.array_out(res, _m.NUM, "res", 6)
     _m.object_id(c_m, objtype, objid)
@@ -1723,17 +1892,19 @@ def mj_objectAcceleration(m, d, objtype, objid, res, flg_local):
 
 
 def mj_geomDistance(m, d, geom1, geom2, distmax, fromto=None):
-    """Return smallest signed distance between two geoms and optionally segment from geom1 to geom2.
+    """mj_geomDistance(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, geom1: int, geom2: int, distmax: float, fromto: numpy.typing.NDArray[numpy.float64] | None = None) -> float
 
-    d must be made for m (or for a model of the same sizes).
-    geom1 must be within 0..ngeom-1.
-    geom2 must be within 0..ngeom-1.
-    fromto: output array of shape (6,) or None.
-    """
+Return smallest signed distance between two geoms and optionally segment from geom1 to geom2.
+
+geom1 must be within 0..ngeom-1.
+geom2 must be within 0..ngeom-1.
+fromto: output array of the size of (6,) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(geom1, c_m.ngeom, "geom1", 0)
     _m.index(geom2, c_m.ngeom, "geom2", 0)
-    fromto, c_fromto = _m.opt_out(fromto, _m.NUM, "fromto", 6)
+    fromto, c_fromto = _m.opt_out(fromto, _m.NUM, "fromto")
+    _m.size(fromto, 6, "fromto", 'fromto should be of size 6')
     try:
         ret = _lib.mjcffi_guard_mj_geomDistance(c_m, c_d, geom1, geom2, distmax, c_fromto)
     except (TypeError, OverflowError) as exc:
@@ -1744,12 +1915,13 @@ def mj_geomDistance(m, d, geom1, geom2, distmax, fromto=None):
 
 
 def mj_insideSite(m, d, siteid, point):
-    """Return 1 if point is inside a site (convex hull for meshes), 0 otherwise.
+    """mj_insideSite(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, siteid: int, point: numpy.typing.NDArray[numpy.float64]) -> int
 
-    d must be made for m (or for a model of the same sizes).
-    siteid must be within 0..nsite-1.
-    point: array of shape (3,).
-    """
+Return 1 if point is inside a site (convex hull for meshes), 0 otherwise.
+
+siteid must be within 0..nsite-1.
+point: array of shape (3,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(siteid, c_m.nsite, "siteid", 0)
     point, c_point = _m.array_in(point, _m.NUM, "point", 3)
@@ -1762,12 +1934,13 @@ def mj_insideSite(m, d, siteid, point):
 
 
 def mj_contactForce(m, d, id, result):
-    """Extract 6D force:torque given contact id, in the contact frame.
+    """mj_contactForce(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, id: int, result: numpy.typing.NDArray[numpy.float64]) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    id must be within 0..ncon-1.
-    result: output array of shape (6,).
-    """
+Extract 6D force:torque given contact id, in the contact frame.
+
+id must be within 0..ncon-1.
+result: output array of shape (6,).
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(id, c_d.ncon, "id", 0)
     result, c_result = _m.array_out(result, _m.NUM, "result", 6)
@@ -1779,16 +1952,18 @@ def mj_contactForce(m, d, id, result):
 
 
 def mj_differentiatePos(m, qvel, dt, qpos1, qpos2):
-    """Compute velocity by finite-differencing two positions.
+    """mj_differentiatePos(m: mujoco._structs.MjModel, qvel: numpy.typing.NDArray[numpy.float64], dt: float, qpos1: numpy.typing.NDArray[numpy.float64], qpos2: numpy.typing.NDArray[numpy.float64]) -> None
 
-    qvel: output array of shape (nv,).
-    qpos1: array of shape (nq,).
-    qpos2: array of shape (nq,).
-    """
+Compute velocity by finite-differencing two positions.
+
+qvel: output array of shape (nv,).
+qpos1: array of shape (nq,).
+qpos2: array of shape (nq,).
+"""
     c_m = _m.struct(m, "mjModel", "m")
-    qvel, c_qvel = _m.array_out(qvel, _m.NUM, "qvel", c_m.nv)
-    qpos1, c_qpos1 = _m.array_in(qpos1, _m.NUM, "qpos1", c_m.nq)
-    qpos2, c_qpos2 = _m.array_in(qpos2, _m.NUM, "qpos2", c_m.nq)
+    qvel, c_qvel = _m.array_out(qvel, _m.NUM, "qvel", c_m.nv, 'qvel should be of size nv')
+    qpos1, c_qpos1 = _m.array_in(qpos1, _m.NUM, "qpos1", c_m.nq, 'qpos1 should be of size nq')
+    qpos2, c_qpos2 = _m.array_in(qpos2, _m.NUM, "qpos2", c_m.nq, 'qpos2 should be of size nq')
     try:
         status = _lib.mjcffi_guard_mj_differentiatePos(c_m, c_qvel, dt, c_qpos1, c_qpos2)
     except (TypeError, OverflowError) as exc:
@@ -1797,14 +1972,16 @@ def mj_differentiatePos(m, qvel, dt, qpos1, qpos2):
 
 
 def mj_integratePos(m, qpos, qvel, dt):
-    """Integrate position with given velocity.
+    """mj_integratePos(m: mujoco._structs.MjModel, qpos: numpy.typing.NDArray[numpy.float64], qvel: numpy.typing.NDArray[numpy.float64], dt: float) -> None
 
-    qpos: output array of shape (nq,).
-    qvel: array of shape (nv,).
-    """
+Integrate position with given velocity.
+
+qpos: output array of shape (nq,).
+qvel: array of shape (nv,).
+"""
     c_m = _m.struct(m, "mjModel", "m")
-    qpos, c_qpos = _m.array_out(qpos, _m.NUM, "qpos", c_m.nq)
-    qvel, c_qvel = _m.array_in(qvel, _m.NUM, "qvel", c_m.nv)
+    qpos, c_qpos = _m.array_out(qpos, _m.NUM, "qpos", c_m.nq, 'qpos should be of size nq')
+    qvel, c_qvel = _m.array_in(qvel, _m.NUM, "qvel", c_m.nv, 'qvel should be of size nv')
     try:
         status = _lib.mjcffi_guard_mj_integratePos(c_m, c_qpos, c_qvel, dt)
     except (TypeError, OverflowError) as exc:
@@ -1813,24 +1990,28 @@ def mj_integratePos(m, qpos, qvel, dt):
 
 
 def mj_normalizeQuat(m, qpos):
-    """Normalize all quaternions in qpos-type vector.
+    """mj_normalizeQuat(m: mujoco._structs.MjModel, qpos: numpy.typing.NDArray[numpy.float64]) -> None
 
-    qpos: output array of shape (nq,).
-    """
+Normalize all quaternions in qpos-type vector.
+
+qpos: output array of shape (nq,).
+"""
     c_m = _m.struct(m, "mjModel", "m")
-    qpos, c_qpos = _m.array_out(qpos, _m.NUM, "qpos", c_m.nq)
+    qpos, c_qpos = _m.array_out(qpos, _m.NUM, "qpos", c_m.nq, 'qpos should be of size nq')
     status = _lib.mjcffi_guard_mj_normalizeQuat(c_m, c_qpos)
     _m.check(status)
 
 
 def mj_local2Global(d, xpos, xmat, pos, quat, body, sameframe):
-    """Map from body local to global Cartesian coordinates, sameframe takes values from mjtSameFrame.
+    """mj_local2Global(d: mujoco._structs.MjData, xpos: numpy.typing.NDArray[numpy.float64], xmat: numpy.typing.NDArray[numpy.float64], pos: numpy.typing.NDArray[numpy.float64], quat: numpy.typing.NDArray[numpy.float64], body: int, sameframe: int) -> None
 
-    xpos: output array of shape (3,).
-    xmat: output array of shape (9,).
-    pos: array of shape (3,).
-    quat: array of shape (4,).
-    """
+Map from body local to global Cartesian coordinates, sameframe takes values from mjtSameFrame.
+
+xpos: output array of shape (3,).
+xmat: output array of shape (9,).
+pos: array of shape (3,).
+quat: array of shape (4,).
+"""
     c_d = _m.struct(d, "mjData", "d")
     xpos, c_xpos = _m.array_out(xpos, _m.NUM, "xpos", 3)
     xmat, c_xmat = _m.array_out(xmat, _m.NUM, "xmat", 9)
@@ -1846,7 +2027,10 @@ def mj_local2Global(d, xpos, xmat, pos, quat, body, sameframe):
 
 
 def mj_getTotalmass(m):
-    """Sum all body masses."""
+    """mj_getTotalmass(m: mujoco._structs.MjModel) -> float
+
+Sum all body masses.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     ret = _lib.mjcffi_guard_mj_getTotalmass(c_m)
     _m.check_error()
@@ -1854,7 +2038,10 @@ def mj_getTotalmass(m):
 
 
 def mj_setTotalmass(m, newmass):
-    """Scale body masses and inertias to achieve specified total mass."""
+    """mj_setTotalmass(m: mujoco._structs.MjModel, newmass: float) -> None
+
+Scale body masses and inertias to achieve specified total mass.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     try:
         status = _lib.mjcffi_guard_mj_setTotalmass(c_m, newmass)
@@ -1864,9 +2051,11 @@ def mj_setTotalmass(m, newmass):
 
 
 def mj_getPluginConfig(m, plugin_id, attrib):
-    """Return a config attribute value of a plugin instance;
-    NULL: invalid plugin instance ID or attribute name
-    """
+    """mj_getPluginConfig(m: mujoco._structs.MjModel, plugin_id: int, attrib: str) -> str
+
+Return a config attribute value of a plugin instance;
+NULL: invalid plugin instance ID or attribute name
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_attrib = _m.text(attrib, "attrib")
     try:
@@ -1879,49 +2068,61 @@ def mj_getPluginConfig(m, plugin_id, attrib):
 
 
 def mj_loadPluginLibrary(path):
-    """Load a dynamic library. The dynamic library is assumed to register one or more plugins."""
+    """mj_loadPluginLibrary(path: str) -> None
+
+Load a dynamic library. The dynamic library is assumed to register one or more plugins.
+"""
     c_path = _m.text(path, "path")
     status = _lib.mjcffi_guard_mj_loadPluginLibrary(c_path)
     _m.check(status)
 
 
 def mj_loadAllPluginLibraries(directory):
-    """Scan a directory and load all dynamic libraries. Dynamic libraries in the specified directory
-    are assumed to register one or more plugins. Optionally, if a callback is specified, it is called
-    for each dynamic library encountered that registers plugins.
-    """
+    """mj_loadAllPluginLibraries(directory: str) -> None
+
+Scan a directory and load all dynamic libraries. Dynamic libraries in the specified directory
+are assumed to register one or more plugins. Optionally, if a callback is specified, it is called
+for each dynamic library encountered that registers plugins.
+"""
     c_directory = _m.text(directory, "directory")
     status = _lib.mjcffi_guard_mj_loadAllPluginLibraries(c_directory, _m.NULL)
     _m.check(status)
 
 
 def mj_version():
-    """Return version number: 1.0.2 is encoded as 102."""
+    """mj_version() -> int
+
+Return version number: 1.0.2 is encoded as 102.
+"""
     ret = _lib.mjcffi_guard_mj_version()
     _m.check_error()
     return ret
 
 
 def mj_versionString():
-    """Return the current version of MuJoCo as a null-terminated string."""
+    """mj_versionString() -> str
+
+Return the current version of MuJoCo as a null-terminated string.
+"""
     ret = _lib.mjcffi_guard_mj_versionString()
     _m.check_error()
     return _m.string(ret)
 
 
 def mj_ray(m, d, pnt, vec, geomgroup, flg_static, bodyexclude, geomid=None, normal=None):
-    """Intersect ray (pnt+x*vec, x>=0) with visible geoms, except geoms in bodyexclude.
-    Return distance (x) to nearest surface, or -1 if no intersection.
-    geomgroup, flg_static are as in mjvOption; geomgroup==NULL skips group exclusion.
+    """mj_ray(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, pnt: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], geomgroup: numpy.typing.NDArray[numpy.uint8] | None, flg_static: int, bodyexclude: int, geomid: numpy.typing.NDArray[numpy.int32] | None = None, normal: numpy.typing.NDArray[numpy.float64] | None = None) -> float
 
-    d must be made for m (or for a model of the same sizes).
-    bodyexclude must be within -1..nbody-1.
-    pnt: array of shape (3,).
-    vec: array of shape (3,).
-    geomgroup: array of shape (mjNGROUP,) or None.
-    geomid: output array of shape (1,) or None.
-    normal: output array of shape (3,) or None.
-    """
+Intersect ray (pnt+x*vec, x>=0) with visible geoms, except geoms in bodyexclude.
+Return distance (x) to nearest surface, or -1 if no intersection.
+geomgroup, flg_static are as in mjvOption; geomgroup==NULL skips group exclusion.
+
+bodyexclude must be within -1..nbody-1.
+pnt: array of shape (3,).
+vec: array of shape (3,).
+geomgroup: array of shape (mjNGROUP,) or None.
+geomid: output array of shape (1,) or None.
+normal: output array of shape (3,) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(bodyexclude, c_m.nbody, "bodyexclude", -1)
     pnt, c_pnt = _m.array_in(pnt, _m.NUM, "pnt", 3)
@@ -1940,28 +2141,31 @@ def mj_ray(m, d, pnt, vec, geomgroup, flg_static, bodyexclude, geomid=None, norm
 
 
 def mj_multiRay(m, d, pnt, vec, geomgroup, flg_static, bodyexclude, geomid, dist, normal, nray, cutoff):
-    """Intersect multiple rays emanating from a single point, compute normals if given.
-    Similar semantics to mj_ray, but vec, normal and dist are arrays.
-    Geoms further than cutoff are ignored.
+    """mj_multiRay(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, pnt: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], geomgroup: numpy.typing.NDArray[numpy.uint8] | None, flg_static: int, bodyexclude: int, geomid: numpy.typing.NDArray[numpy.int32] | None, dist: numpy.typing.NDArray[numpy.float64], normal: numpy.typing.NDArray[numpy.float64] | None, nray: int, cutoff: float) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    bodyexclude must be within -1..nbody-1.
-    pnt: array of shape (3,).
-    vec: array of shape (nray, 3).
-    geomgroup: array of shape (mjNGROUP,) or None.
-    geomid: output array of shape (nray,) or None.
-    dist: output array of shape (nray,).
-    normal: output array of shape (nray, 3) or None.
-    """
+Intersect multiple rays emanating from a single point, compute normals if given.
+Similar semantics to mj_ray, but vec, normal and dist are arrays.
+Geoms further than cutoff are ignored.
+
+bodyexclude must be within -1..nbody-1.
+pnt: array of shape (3,).
+vec: array of the size of (nray, 3).
+geomgroup: array of shape (mjNGROUP,) or None.
+geomid: output array of shape (nray,) or None.
+dist: output array of shape (nray,).
+normal: output array of the size of (nray, 3) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     nray = _m.count(nray, "nray")
     _m.index(bodyexclude, c_m.nbody, "bodyexclude", -1)
+    vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
+    _m.size(vec, (nray) * 3, "vec", 'vec should be of size 3*nray')
+    normal, c_normal = _m.opt_out(normal, _m.NUM, "normal")
+    _m.size(normal, (nray) * 3, "normal", 'normal should be of size 3*nray')
+    geomid, c_geomid = _m.opt_out(geomid, _m.INT, "geomid", nray, 'dist and geomid should be of size nray')
+    dist, c_dist = _m.array_out(dist, _m.NUM, "dist", nray, 'dist and geomid should be of size nray')
     pnt, c_pnt = _m.array_in(pnt, _m.NUM, "pnt", 3)
-    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", (nray, 3))
     geomgroup, c_geomgroup = _m.opt_in(geomgroup, _m.BYTE, "geomgroup", 6)
-    geomid, c_geomid = _m.opt_out(geomid, _m.INT, "geomid", nray)
-    dist, c_dist = _m.array_out(dist, _m.NUM, "dist", nray)
-    normal, c_normal = _m.opt_out(normal, _m.NUM, "normal", (nray, 3))
     try:
         status = _lib.mjcffi_guard_mj_multiRay(
             c_m, c_d, c_pnt, c_vec, c_geomgroup, flg_static, bodyexclude, c_geomid, c_dist,
@@ -1974,14 +2178,15 @@ def mj_multiRay(m, d, pnt, vec, geomgroup, flg_static, bodyexclude, geomid, dist
 
 
 def mj_rayHfield(m, d, geomid, pnt, vec, normal=None):
-    """Intersect ray with hfield; return nearest distance or -1 if no intersection.
+    """mj_rayHfield(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, geomid: int, pnt: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], normal: numpy.typing.NDArray[numpy.float64] | None = None) -> float
 
-    d must be made for m (or for a model of the same sizes).
-    geomid must be within 0..ngeom-1.
-    pnt: array of shape (3,).
-    vec: array of shape (3,).
-    normal: output array of shape (3,) or None.
-    """
+Intersect ray with hfield; return nearest distance or -1 if no intersection.
+
+geomid must be within 0..ngeom-1.
+pnt: array of shape (3,).
+vec: array of shape (3,).
+normal: output array of shape (3,) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(geomid, c_m.ngeom, "geomid", 0)
     pnt, c_pnt = _m.array_in(pnt, _m.NUM, "pnt", 3)
@@ -1996,14 +2201,15 @@ def mj_rayHfield(m, d, geomid, pnt, vec, normal=None):
 
 
 def mj_rayMesh(m, d, geomid, pnt, vec, normal=None):
-    """Intersect ray with mesh; return nearest distance or -1 if no intersection.
+    """mj_rayMesh(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, geomid: int, pnt: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], normal: numpy.typing.NDArray[numpy.float64] | None = None) -> float
 
-    d must be made for m (or for a model of the same sizes).
-    geomid must be within 0..ngeom-1.
-    pnt: array of shape (3,).
-    vec: array of shape (3,).
-    normal: output array of shape (3,) or None.
-    """
+Intersect ray with mesh; return nearest distance or -1 if no intersection.
+
+geomid must be within 0..ngeom-1.
+pnt: array of shape (3,).
+vec: array of shape (3,).
+normal: output array of shape (3,) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     _m.index(geomid, c_m.ngeom, "geomid", 0)
     pnt, c_pnt = _m.array_in(pnt, _m.NUM, "pnt", 3)
@@ -2018,15 +2224,17 @@ def mj_rayMesh(m, d, geomid, pnt, vec, normal=None):
 
 
 def mju_rayGeom(pos, mat, size, pnt, vec, geomtype, normal=None):
-    """Intersect ray with pure geom; return nearest distance or -1 if no intersection.
+    """mju_rayGeom(pos: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], size: numpy.typing.NDArray[numpy.float64], pnt: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], geomtype: int, normal: numpy.typing.NDArray[numpy.float64] | None = None) -> float
 
-    pos: array of shape (3,).
-    mat: array of shape (9,).
-    size: array of shape (3,).
-    pnt: array of shape (3,).
-    vec: array of shape (3,).
-    normal: output array of shape (3,) or None.
-    """
+Intersect ray with pure geom; return nearest distance or -1 if no intersection.
+
+pos: array of shape (3,).
+mat: array of shape (9,).
+size: array of shape (3,).
+pnt: array of shape (3,).
+vec: array of shape (3,).
+normal: output array of shape (3,) or None.
+"""
     pos, c_pos = _m.array_in(pos, _m.NUM, "pos", 3)
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat", 9)
     size, c_size = _m.array_in(size, _m.NUM, "size", 3)
@@ -2042,15 +2250,16 @@ def mju_rayGeom(pos, mat, size, pnt, vec, geomtype, normal=None):
 
 
 def mj_rayFlex(m, d, flex_layer, flg_vert, flg_edge, flg_face, flg_skin, flexid, pnt, vec, vertid=None, normal=None):
-    """Intersect ray with flex; return nearest distance or -1 if no intersection,
-    and also output nearest vertex id and surface normal.
+    """mj_rayFlex(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, flex_layer: int, flg_vert: int, flg_edge: int, flg_face: int, flg_skin: int, flexid: int, pnt: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], vertid: numpy.typing.NDArray[numpy.int32] | None = None, normal: numpy.typing.NDArray[numpy.float64] | None = None) -> float
 
-    d must be made for m (or for a model of the same sizes).
-    pnt: array of shape (3,).
-    vec: array of shape (3,).
-    vertid: output array of shape (1,) or None.
-    normal: output array of shape (3,) or None.
-    """
+Intersect ray with flex; return nearest distance or -1 if no intersection,
+and also output nearest vertex id and surface normal.
+
+pnt: array of shape (3,).
+vec: array of shape (3,).
+vertid: output array of shape (1,) or None.
+normal: output array of shape (3,) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     pnt, c_pnt = _m.array_in(pnt, _m.NUM, "pnt", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
@@ -2070,23 +2279,27 @@ def mj_rayFlex(m, d, flex_layer, flg_vert, flg_edge, flg_face, flg_skin, flexid,
 
 
 def mju_raySkin(nface, nvert, face, vert, pnt, vec, vertid=None):
-    """Intersect ray with skin; return nearest distance or -1 if no intersection,
-    and also output nearest vertex id.
+    """mju_raySkin(nface: int, nvert: int, face: numpy.typing.NDArray[numpy.int32], vert: numpy.typing.NDArray[numpy.float32], pnt: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], vertid: numpy.typing.NDArray[numpy.int32] | None = None) -> float
 
-    face: array of shape (nface, 3).
-    vert: array of shape (nvert, 3).
-    pnt: array of shape (3,).
-    vec: array of shape (3,).
-    vertid: output array of shape (1,) or None.
-    """
-    nface = _m.count(nface, "nface")
-    nvert = _m.count(nvert, "nvert")
-    face, c_face = _m.array_in(face, _m.INT, "face", (nface, 3))
-    vert, c_vert = _m.array_in(vert, _m.FLOAT, "vert", (nvert, 3))
+Intersect ray with skin; return nearest distance or -1 if no intersection,
+and also output nearest vertex id.
+
+face: array of the size of (nface, 3).
+vert: array of the size of (nvert, 3).
+pnt: array of shape (3,).
+vec: array of shape (3,).
+vertid: output array of shape (1,) or None.
+"""
+    nface = _m.count(nface, "nface", 'nface and nvert must be non-negative')
+    nvert = _m.count(nvert, "nvert", 'nface and nvert must be non-negative')
+    face, c_face = _m.array_in(face, _m.INT, "face")
+    _m.size(face, (nface) * 3, "face", 'face should be of size 3*nface')
+    vert, c_vert = _m.array_in(vert, _m.FLOAT, "vert")
+    _m.size(vert, (nvert) * 3, "vert", 'vert should be of size 3*nvert')
     pnt, c_pnt = _m.array_in(pnt, _m.NUM, "pnt", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     vertid, c_vertid = _m.opt_out(vertid, _m.INT, "vertid", 1)
-    _m.below(face, nvert, 'face')
+    _m.below(face, nvert, 'face', 'face vertex index out of bounds')
     try:
         ret = _lib.mjcffi_guard_mju_raySkin(nface, nvert, c_face, c_vert, c_pnt, c_vec, c_vertid)
     except (TypeError, OverflowError) as exc:
@@ -2097,14 +2310,20 @@ def mju_raySkin(nface, nvert, face, vert, pnt, vec, vertid=None):
 
 
 def mjv_defaultCamera(cam):
-    """Set default camera."""
+    """mjv_defaultCamera(cam: mujoco._structs.MjvCamera) -> None
+
+Set default camera.
+"""
     c_cam = _m.struct(cam, "mjvCamera", "cam")
     status = _lib.mjcffi_guard_mjv_defaultCamera(c_cam)
     _m.check(status)
 
 
 def mjv_defaultFreeCamera(m, cam):
-    """Set default free camera."""
+    """mjv_defaultFreeCamera(m: mujoco._structs.MjModel, cam: mujoco._structs.MjvCamera) -> None
+
+Set default free camera.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_cam = _m.struct(cam, "mjvCamera", "cam")
     status = _lib.mjcffi_guard_mjv_defaultFreeCamera(c_m, c_cam)
@@ -2112,20 +2331,25 @@ def mjv_defaultFreeCamera(m, cam):
 
 
 def mjv_defaultPerturb(pert):
-    """Set default perturbation."""
+    """mjv_defaultPerturb(pert: mujoco._structs.MjvPerturb) -> None
+
+Set default perturbation.
+"""
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
     status = _lib.mjcffi_guard_mjv_defaultPerturb(c_pert)
     _m.check(status)
 
 
 def mjv_room2model(modelpos, modelquat, roompos, roomquat, scn):
-    """Transform pose from room to model space.
+    """mjv_room2model(modelpos: numpy.typing.NDArray[numpy.float64], modelquat: numpy.typing.NDArray[numpy.float64], roompos: numpy.typing.NDArray[numpy.float64], roomquat: numpy.typing.NDArray[numpy.float64], scn: mujoco._structs.MjvScene) -> None
 
-    modelpos: output array of shape (3,).
-    modelquat: output array of shape (4,).
-    roompos: array of shape (3,).
-    roomquat: array of shape (4,).
-    """
+Transform pose from room to model space.
+
+modelpos: output array of shape (3,).
+modelquat: output array of shape (4,).
+roompos: array of shape (3,).
+roomquat: array of shape (4,).
+"""
     c_scn = _m.struct(scn, "mjvScene", "scn")
     modelpos, c_modelpos = _m.array_out(modelpos, _m.NUM, "modelpos", 3)
     modelquat, c_modelquat = _m.array_out(modelquat, _m.NUM, "modelquat", 4)
@@ -2136,13 +2360,15 @@ def mjv_room2model(modelpos, modelquat, roompos, roomquat, scn):
 
 
 def mjv_model2room(roompos, roomquat, modelpos, modelquat, scn):
-    """Transform pose from model to room space.
+    """mjv_model2room(roompos: numpy.typing.NDArray[numpy.float64], roomquat: numpy.typing.NDArray[numpy.float64], modelpos: numpy.typing.NDArray[numpy.float64], modelquat: numpy.typing.NDArray[numpy.float64], scn: mujoco._structs.MjvScene) -> None
 
-    roompos: output array of shape (3,).
-    roomquat: output array of shape (4,).
-    modelpos: array of shape (3,).
-    modelquat: array of shape (4,).
-    """
+Transform pose from model to room space.
+
+roompos: output array of shape (3,).
+roomquat: output array of shape (4,).
+modelpos: array of shape (3,).
+modelquat: array of shape (4,).
+"""
     c_scn = _m.struct(scn, "mjvScene", "scn")
     roompos, c_roompos = _m.array_out(roompos, _m.NUM, "roompos", 3)
     roomquat, c_roomquat = _m.array_out(roomquat, _m.NUM, "roomquat", 4)
@@ -2153,12 +2379,14 @@ def mjv_model2room(roompos, roomquat, modelpos, modelquat, scn):
 
 
 def mjv_cameraInModel(headpos, forward, up, scn):
-    """Get camera info in model space; average left and right OpenGL cameras.
+    """mjv_cameraInModel(headpos: numpy.typing.NDArray[numpy.float64], forward: numpy.typing.NDArray[numpy.float64], up: numpy.typing.NDArray[numpy.float64], scn: mujoco._structs.MjvScene) -> None
 
-    headpos: output array of shape (3,).
-    forward: output array of shape (3,).
-    up: output array of shape (3,).
-    """
+Get camera info in model space; average left and right OpenGL cameras.
+
+headpos: output array of shape (3,).
+forward: output array of shape (3,).
+up: output array of shape (3,).
+"""
     c_scn = _m.struct(scn, "mjvScene", "scn")
     headpos, c_headpos = _m.array_out(headpos, _m.NUM, "headpos", 3)
     forward, c_forward = _m.array_out(forward, _m.NUM, "forward", 3)
@@ -2168,12 +2396,14 @@ def mjv_cameraInModel(headpos, forward, up, scn):
 
 
 def mjv_cameraInRoom(headpos, forward, up, scn):
-    """Get camera info in room space; average left and right OpenGL cameras.
+    """mjv_cameraInRoom(headpos: numpy.typing.NDArray[numpy.float64], forward: numpy.typing.NDArray[numpy.float64], up: numpy.typing.NDArray[numpy.float64], scn: mujoco._structs.MjvScene) -> None
 
-    headpos: output array of shape (3,).
-    forward: output array of shape (3,).
-    up: output array of shape (3,).
-    """
+Get camera info in room space; average left and right OpenGL cameras.
+
+headpos: output array of shape (3,).
+forward: output array of shape (3,).
+up: output array of shape (3,).
+"""
     c_scn = _m.struct(scn, "mjvScene", "scn")
     headpos, c_headpos = _m.array_out(headpos, _m.NUM, "headpos", 3)
     forward, c_forward = _m.array_out(forward, _m.NUM, "forward", 3)
@@ -2183,7 +2413,10 @@ def mjv_cameraInRoom(headpos, forward, up, scn):
 
 
 def mjv_frustumHeight(scn):
-    """Get frustum height at unit distance from camera; average left and right OpenGL cameras."""
+    """mjv_frustumHeight(scn: mujoco._structs.MjvScene) -> float
+
+Get frustum height at unit distance from camera; average left and right OpenGL cameras.
+"""
     c_scn = _m.struct(scn, "mjvScene", "scn")
     ret = _lib.mjcffi_guard_mjv_frustumHeight(c_scn)
     _m.check_error()
@@ -2191,12 +2424,14 @@ def mjv_frustumHeight(scn):
 
 
 def mjv_alignToCamera(res, vec, forward):
-    """Rotate 3D vec in horizontal plane by angle between (0,1) and (forward_x,forward_y).
+    """mjv_alignToCamera(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], forward: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    vec: array of shape (3,).
-    forward: array of shape (3,).
-    """
+Rotate 3D vec in horizontal plane by angle between (0,1) and (forward_x,forward_y).
+
+res: output array of shape (3,).
+vec: array of shape (3,).
+forward: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     forward, c_forward = _m.array_in(forward, _m.NUM, "forward", 3)
@@ -2205,7 +2440,10 @@ def mjv_alignToCamera(res, vec, forward):
 
 
 def mjv_moveCamera(m, action, reldx, reldy, cam):
-    """Move camera with mouse; action is mjtMouse."""
+    """mjv_moveCamera(m: mujoco._structs.MjModel, action: int, reldx: float, reldy: float, cam: mujoco._structs.MjvCamera) -> None
+
+Move camera with mouse; action is mjtMouse.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_cam = _m.struct(cam, "mjvCamera", "cam")
     try:
@@ -2217,10 +2455,10 @@ def mjv_moveCamera(m, action, reldx, reldy, cam):
 
 
 def mjv_movePerturb(m, d, action, reldx, reldy, scn, pert):
-    """Move perturb object with mouse; action is mjtMouse.
+    """mjv_movePerturb(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, action: int, reldx: float, reldy: float, scn: mujoco._structs.MjvScene, pert: mujoco._structs.MjvPerturb) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Move perturb object with mouse; action is mjtMouse.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_scn = _m.struct(scn, "mjvScene", "scn")
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
@@ -2233,10 +2471,12 @@ def mjv_movePerturb(m, d, action, reldx, reldy, scn, pert):
 
 
 def mjv_moveModel(m, action, reldx, reldy, roomup, scn):
-    """Move model with mouse; action is mjtMouse.
+    """mjv_moveModel(m: mujoco._structs.MjModel, action: int, reldx: float, reldy: float, roomup: numpy.typing.NDArray[numpy.float64], scn: mujoco._structs.MjvScene) -> None
 
-    roomup: array of shape (3,).
-    """
+Move model with mouse; action is mjtMouse.
+
+roomup: array of shape (3,).
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_scn = _m.struct(scn, "mjvScene", "scn")
     roomup, c_roomup = _m.array_in(roomup, _m.NUM, "roomup", 3)
@@ -2249,10 +2489,10 @@ def mjv_moveModel(m, action, reldx, reldy, roomup, scn):
 
 
 def mjv_initPerturb(m, d, scn, pert):
-    """Copy perturb pos,quat from selected body; set scale for perturbation.
+    """mjv_initPerturb(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, scn: mujoco._structs.MjvScene, pert: mujoco._structs.MjvPerturb) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Copy perturb pos,quat from selected body; set scale for perturbation.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_scn = _m.struct(scn, "mjvScene", "scn")
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
@@ -2261,11 +2501,11 @@ def mjv_initPerturb(m, d, scn, pert):
 
 
 def mjv_applyPerturbPose(m, d, pert, flg_paused):
-    """Set perturb pos,quat in d->mocap when selected body is mocap, and in d->qpos otherwise.
-    Write d->qpos only if flg_paused and subtree root for selected body has free joint.
+    """mjv_applyPerturbPose(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, pert: mujoco._structs.MjvPerturb, flg_paused: int) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Set perturb pos,quat in d->mocap when selected body is mocap, and in d->qpos otherwise.
+Write d->qpos only if flg_paused and subtree root for selected body has free joint.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
     try:
@@ -2277,10 +2517,10 @@ def mjv_applyPerturbPose(m, d, pert, flg_paused):
 
 
 def mjv_applyPerturbForce(m, d, pert):
-    """Set perturb force,torque in d->xfrc_applied, if selected body is dynamic.
+    """mjv_applyPerturbForce(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, pert: mujoco._structs.MjvPerturb) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Set perturb force,torque in d->xfrc_applied, if selected body is dynamic.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
     status = _lib.mjcffi_guard_mjv_applyPerturbForce(c_m, c_d, c_pert)
@@ -2288,7 +2528,10 @@ def mjv_applyPerturbForce(m, d, pert):
 
 
 def mjv_averageCamera(cam1, cam2):
-    """Return the average of two OpenGL cameras."""
+    """mjv_averageCamera(cam1: mujoco._structs.MjvGLCamera, cam2: mujoco._structs.MjvGLCamera) -> mujoco._structs.MjvGLCamera
+
+Return the average of two OpenGL cameras.
+"""
     c_cam1 = _m.struct(cam1, "mjvGLCamera", "cam1")
     c_cam2 = _m.struct(cam2, "mjvGLCamera", "cam2")
     ret = _lib.mjcffi_guard_mjv_averageCamera(c_cam1, c_cam2)
@@ -2297,10 +2540,10 @@ def mjv_averageCamera(cam1, cam2):
 
 
 def mjv_camera2GLCamera(m, d, cam):
-    """Converts a mjvCamera to a mjvGLCamera.
+    """mjv_camera2GLCamera(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, cam: mujoco._structs.MjvCamera) -> mujoco._structs.MjvGLCamera
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Converts a mjvCamera to a mjvGLCamera.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_cam = _m.struct(cam, "mjvCamera", "cam")
     ret = _lib.mjcffi_guard_mjv_camera2GLCamera(c_m, c_d, c_cam)
@@ -2309,14 +2552,15 @@ def mjv_camera2GLCamera(m, d, cam):
 
 
 def mjv_select(m, d, vopt, aspectratio, relx, rely, scn, selpnt, geomid=None, flexid=None, skinid=None):
-    """Select geom, flex or skin with mouse; return bodyid; -1: none selected.
+    """mjv_select(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, vopt: mujoco._structs.MjvOption, aspectratio: float, relx: float, rely: float, scn: mujoco._structs.MjvScene, selpnt: numpy.typing.NDArray[numpy.float64], geomid: numpy.typing.NDArray[numpy.int32] | None = None, flexid: numpy.typing.NDArray[numpy.int32] | None = None, skinid: numpy.typing.NDArray[numpy.int32] | None = None) -> int
 
-    d must be made for m (or for a model of the same sizes).
-    selpnt: output array of shape (3,).
-    geomid: output array of shape (1,) or None.
-    flexid: output array of shape (1,) or None.
-    skinid: output array of shape (1,) or None.
-    """
+Select geom, flex or skin with mouse; return bodyid; -1: none selected.
+
+selpnt: output array of shape (3,).
+geomid: output array of shape (1,) or None.
+flexid: output array of shape (1,) or None.
+skinid: output array of shape (1,) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_vopt = _m.struct(vopt, "mjvOption", "vopt")
     c_scn = _m.struct(scn, "mjvScene", "scn")
@@ -2337,27 +2581,35 @@ def mjv_select(m, d, vopt, aspectratio, relx, rely, scn, selpnt, geomid=None, fl
 
 
 def mjv_defaultOption(opt):
-    """Set default visualization options."""
+    """mjv_defaultOption(opt: mujoco._structs.MjvOption) -> None
+
+Set default visualization options.
+"""
     c_opt = _m.struct(opt, "mjvOption", "opt")
     status = _lib.mjcffi_guard_mjv_defaultOption(c_opt)
     _m.check(status)
 
 
 def mjv_defaultFigure(fig):
-    """Set default figure."""
+    """mjv_defaultFigure(fig: mujoco._structs.MjvFigure) -> None
+
+Set default figure.
+"""
     c_fig = _m.struct(fig, "mjvFigure", "fig")
     status = _lib.mjcffi_guard_mjv_defaultFigure(c_fig)
     _m.check(status)
 
 
 def mjv_initGeom(geom, type, size=None, pos=None, mat=None, rgba=None):
-    """Initialize given geom fields when not NULL, set the rest to their default values.
+    """mjv_initGeom(geom: mujoco._structs.MjvGeom, type: int, size: numpy.typing.NDArray[numpy.float64] | None = None, pos: numpy.typing.NDArray[numpy.float64] | None = None, mat: numpy.typing.NDArray[numpy.float64] | None = None, rgba: numpy.typing.NDArray[numpy.float32] | None = None) -> None
 
-    size: array of shape (3,) or None.
-    pos: array of shape (3,) or None.
-    mat: array of shape (9,) or None.
-    rgba: array of shape (4,) or None.
-    """
+Initialize given geom fields when not NULL, set the rest to their default values.
+
+size: array of shape (3,) or None.
+pos: array of shape (3,) or None.
+mat: array of shape (9,) or None.
+rgba: array of shape (4,) or None.
+"""
     c_geom = _m.struct(geom, "mjvGeom", "geom")
     size, c_size = _m.opt_in(size, _m.NUM, "size", 3)
     pos, c_pos = _m.opt_in(pos, _m.NUM, "pos", 3)
@@ -2371,13 +2623,15 @@ def mjv_initGeom(geom, type, size=None, pos=None, mat=None, rgba=None):
 
 
 def mjv_connector(geom, type, width, from_, to):
-    """Set (type, size, pos, mat) for connector-type geom between given points.
-    Assume that mjv_initGeom was already called to set all other properties.
-    Width of mjGEOM_LINE is denominated in pixels.
+    """mjv_connector(geom: mujoco._structs.MjvGeom, type: int, width: float, from_: numpy.typing.NDArray[numpy.float64], to: numpy.typing.NDArray[numpy.float64]) -> None
 
-    from_: array of shape (3,).
-    to: array of shape (3,).
-    """
+Set (type, size, pos, mat) for connector-type geom between given points.
+Assume that mjv_initGeom was already called to set all other properties.
+Width of mjGEOM_LINE is denominated in pixels.
+
+from_: array of shape (3,).
+to: array of shape (3,).
+"""
     c_geom = _m.struct(geom, "mjvGeom", "geom")
     from_, c_from_ = _m.array_in(from_, _m.NUM, "from_", 3)
     to, c_to = _m.array_in(to, _m.NUM, "to", 3)
@@ -2390,14 +2644,20 @@ def mjv_connector(geom, type, width, from_, to):
 
 
 def mjv_defaultScene(scn):
-    """Set default abstract scene."""
+    """mjv_defaultScene(scn: mujoco._structs.MjvScene) -> None
+
+Set default abstract scene.
+"""
     c_scn = _m.struct(scn, "mjvScene", "scn")
     status = _lib.mjcffi_guard_mjv_defaultScene(c_scn)
     _m.check(status)
 
 
 def mjv_makeScene(m, scn, maxgeom):
-    """Allocate resources in abstract scene."""
+    """mjv_makeScene(m: mujoco._structs.MjModel, scn: mujoco._structs.MjvScene, maxgeom: int) -> None
+
+Allocate resources in abstract scene.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_scn = _m.struct(scn, "mjvScene", "scn")
     try:
@@ -2408,17 +2668,20 @@ def mjv_makeScene(m, scn, maxgeom):
 
 
 def mjv_freeScene(scn):
-    """Free abstract scene."""
+    """mjv_freeScene(scn: mujoco._structs.MjvScene) -> None
+
+Free abstract scene.
+"""
     c_scn = _m.struct(scn, "mjvScene", "scn")
     status = _lib.mjcffi_guard_mjv_freeScene(c_scn)
     _m.check(status)
 
 
 def mjv_updateScene(m, d, opt, pert, cam, catmask, scn):
-    """Update entire scene given model state.
+    """mjv_updateScene(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, opt: mujoco._structs.MjvOption, pert: mujoco._structs.MjvPerturb | None, cam: mujoco._structs.MjvCamera, catmask: int, scn: mujoco._structs.MjvScene) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Update entire scene given model state.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_opt = _m.struct(opt, "mjvOption", "opt")
     c_pert = _m.opt_struct(pert, "mjvPerturb", "pert")
@@ -2432,20 +2695,22 @@ def mjv_updateScene(m, d, opt, pert, cam, catmask, scn):
 
 
 def mjv_copyModel(dest, src):
-    """Copy mjModel, skip large arrays not required for abstract visualization.
+    """mjv_copyModel(dest: mujoco._structs.MjModel | None, src: mujoco._structs.MjModel) -> None
 
-    Not available in mjcffi: its copy lacks arrays that simulation functions read.
-    The raw C function is mjcffi.lib.mjv_copyModel.
-    """
+Copy mjModel, skip large arrays not required for abstract visualization.
+
+Not available in mjcffi: its copy lacks arrays that simulation functions read.
+The raw C function is mjcffi.lib.mjv_copyModel.
+"""
     raise NotImplementedError(
         'mjv_copyModel: its copy lacks arrays that simulation functions read')
 
 
 def mjv_addGeoms(m, d, opt, pert, catmask, scn):
-    """Add geoms from selected categories.
+    """mjv_addGeoms(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, opt: mujoco._structs.MjvOption, pert: mujoco._structs.MjvPerturb, catmask: int, scn: mujoco._structs.MjvScene) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Add geoms from selected categories.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_opt = _m.struct(opt, "mjvOption", "opt")
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
@@ -2458,10 +2723,10 @@ def mjv_addGeoms(m, d, opt, pert, catmask, scn):
 
 
 def mjv_makeLights(m, d, scn):
-    """Make list of lights.
+    """mjv_makeLights(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, scn: mujoco._structs.MjvScene) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Make list of lights.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_scn = _m.struct(scn, "mjvScene", "scn")
     status = _lib.mjcffi_guard_mjv_makeLights(c_m, c_d, c_scn)
@@ -2469,10 +2734,10 @@ def mjv_makeLights(m, d, scn):
 
 
 def mjv_updateCamera(m, d, cam, scn):
-    """Update camera.
+    """mjv_updateCamera(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, cam: mujoco._structs.MjvCamera, scn: mujoco._structs.MjvScene) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Update camera.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_cam = _m.struct(cam, "mjvCamera", "cam")
     c_scn = _m.struct(scn, "mjvScene", "scn")
@@ -2481,10 +2746,10 @@ def mjv_updateCamera(m, d, cam, scn):
 
 
 def mjv_updateSkin(m, d, scn):
-    """Update skins.
+    """mjv_updateSkin(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, scn: mujoco._structs.MjvScene) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    """
+Update skins.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_scn = _m.struct(scn, "mjvScene", "scn")
     status = _lib.mjcffi_guard_mjv_updateSkin(c_m, c_d, c_scn)
@@ -2492,13 +2757,15 @@ def mjv_updateSkin(m, d, scn):
 
 
 def mjv_cameraFrame(headpos, forward, up, right, d, cam):
-    """Compute camera position and forward, up, and right vectors.
+    """mjv_cameraFrame(headpos: numpy.typing.NDArray[numpy.float64] | None, forward: numpy.typing.NDArray[numpy.float64] | None, up: numpy.typing.NDArray[numpy.float64] | None, right: numpy.typing.NDArray[numpy.float64] | None, d: mujoco._structs.MjData, cam: mujoco._structs.MjvCamera) -> None
 
-    headpos: output array of shape (3,) or None.
-    forward: output array of shape (3,) or None.
-    up: output array of shape (3,) or None.
-    right: output array of shape (3,) or None.
-    """
+Compute camera position and forward, up, and right vectors.
+
+headpos: output array of shape (3,) or None.
+forward: output array of shape (3,) or None.
+up: output array of shape (3,) or None.
+right: output array of shape (3,) or None.
+"""
     c_d = _m.struct(d, "mjData", "d")
     c_cam = _m.struct(cam, "mjvCamera", "cam")
     headpos, c_headpos = _m.opt_out(headpos, _m.NUM, "headpos", 3)
@@ -2510,12 +2777,14 @@ def mjv_cameraFrame(headpos, forward, up, right, d, cam):
 
 
 def mjv_cameraFrustum(zver, zhor, zclip, m, cam):
-    """Compute camera frustum: vertical, horizontal, and clip planes.
+    """mjv_cameraFrustum(zver: numpy.typing.NDArray[numpy.float32] | None, zhor: numpy.typing.NDArray[numpy.float32] | None, zclip: numpy.typing.NDArray[numpy.float32] | None, m: mujoco._structs.MjModel, cam: mujoco._structs.MjvCamera) -> None
 
-    zver: output array of shape (2,) or None.
-    zhor: output array of shape (2,) or None.
-    zclip: output array of shape (2,) or None.
-    """
+Compute camera frustum: vertical, horizontal, and clip planes.
+
+zver: output array of shape (2,) or None.
+zhor: output array of shape (2,) or None.
+zclip: output array of shape (2,) or None.
+"""
     c_m = _m.struct(m, "mjModel", "m")
     c_cam = _m.struct(cam, "mjvCamera", "cam")
     zver, c_zver = _m.opt_out(zver, _m.FLOAT, "zver", 2)
@@ -2526,276 +2795,335 @@ def mjv_cameraFrustum(zver, zhor, zclip, m, cam):
 
 
 def mjr_defaultContext(con):
-    """Set default mjrContext."""
+    """mjr_defaultContext(con: mujoco._structs.MjrContext) -> None
+
+Set default mjrContext.
+"""
     c_con = _m.struct(con, "mjrContext", "con")
     status = _lib.mjcffi_guard_mjr_defaultContext(c_con)
     _m.check(status)
 
 
 def mjr_defaultRendererInfo(info):
-    """Set default mjrRendererInfo."""
+    """mjr_defaultRendererInfo(info: mujoco._structs.MjrRendererInfo) -> None
+
+Set default mjrRendererInfo.
+"""
     c_info = _m.struct(info, "mjrRendererInfo", "info")
     status = _lib.mjcffi_guard_mjr_defaultRendererInfo(c_info)
     _m.check(status)
 
 
 def mjr_getRendererInfo(info):
-    """Get active renderer information.
+    """mjr_getRendererInfo(info: mujoco._structs.MjrRendererInfo) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_getRendererInfo.
-    """
+Get active renderer information.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_getRendererInfo.
+"""
     raise NotImplementedError(
         'mjr_getRendererInfo: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_makeContext(m, con, fontscale):
-    """Allocate resources in custom OpenGL context; fontscale is mjtFontScale.
+    """mjr_makeContext(m: mujoco._structs.MjModel, con: mujoco._structs.MjrContext, fontscale: int) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_makeContext.
-    """
+Allocate resources in custom OpenGL context; fontscale is mjtFontScale.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_makeContext.
+"""
     raise NotImplementedError(
         'mjr_makeContext: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_changeFont(fontscale, con):
-    """Change font of existing context.
+    """mjr_changeFont(fontscale: int, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_changeFont.
-    """
+Change font of existing context.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_changeFont.
+"""
     raise NotImplementedError(
         'mjr_changeFont: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_addAux(index, width, height, samples, con):
-    """Add Aux buffer with given index to context; free previous Aux buffer.
+    """mjr_addAux(index: int, width: int, height: int, samples: int, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_addAux.
-    """
+Add Aux buffer with given index to context; free previous Aux buffer.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_addAux.
+"""
     raise NotImplementedError(
         'mjr_addAux: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_freeContext(con):
-    """Free resources in custom OpenGL context, set to default.
+    """mjr_freeContext(con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_freeContext.
-    """
+Free resources in custom OpenGL context, set to default.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_freeContext.
+"""
     raise NotImplementedError(
         'mjr_freeContext: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_resizeOffscreen(width, height, con):
-    """Resize offscreen buffers.
+    """mjr_resizeOffscreen(width: int, height: int, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_resizeOffscreen.
-    """
+Resize offscreen buffers.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_resizeOffscreen.
+"""
     raise NotImplementedError(
         'mjr_resizeOffscreen: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_uploadTexture(m, con, texid):
-    """Upload texture to GPU, overwriting previous upload if any. A by-reference texture (tex_adr == -1)
-    is decoded with mj_loadTexture.
+    """mjr_uploadTexture(m: mujoco._structs.MjModel, con: mujoco._structs.MjrContext, texid: int) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_uploadTexture.
-    """
+Upload texture to GPU, overwriting previous upload if any. A by-reference texture (tex_adr == -1)
+is decoded with mj_loadTexture.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_uploadTexture.
+"""
     raise NotImplementedError(
         'mjr_uploadTexture: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_uploadMesh(m, con, meshid):
-    """Upload mesh to GPU, overwriting previous upload if any.
+    """mjr_uploadMesh(m: mujoco._structs.MjModel, con: mujoco._structs.MjrContext, meshid: int) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_uploadMesh.
-    """
+Upload mesh to GPU, overwriting previous upload if any.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_uploadMesh.
+"""
     raise NotImplementedError(
         'mjr_uploadMesh: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_uploadHField(m, con, hfieldid):
-    """Upload height field to GPU, overwriting previous upload if any.
+    """mjr_uploadHField(m: mujoco._structs.MjModel, con: mujoco._structs.MjrContext, hfieldid: int) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_uploadHField.
-    """
+Upload height field to GPU, overwriting previous upload if any.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_uploadHField.
+"""
     raise NotImplementedError(
         'mjr_uploadHField: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_restoreBuffer(con):
-    """Make con->currentBuffer current again.
+    """mjr_restoreBuffer(con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_restoreBuffer.
-    """
+Make con->currentBuffer current again.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_restoreBuffer.
+"""
     raise NotImplementedError(
         'mjr_restoreBuffer: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_setBuffer(framebuffer, con):
-    """Set OpenGL framebuffer for rendering: mjFB_WINDOW or mjFB_OFFSCREEN.
-    If only one buffer is available, set that buffer and ignore framebuffer argument.
+    """mjr_setBuffer(framebuffer: int, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_setBuffer.
-    """
+Set OpenGL framebuffer for rendering: mjFB_WINDOW or mjFB_OFFSCREEN.
+If only one buffer is available, set that buffer and ignore framebuffer argument.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_setBuffer.
+"""
     raise NotImplementedError(
         'mjr_setBuffer: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_readPixels(rgb, depth, viewport, con):
-    """Read pixels from current OpenGL framebuffer to client buffer.
-    Viewport is in OpenGL framebuffer; client buffer starts at (0,0).
+    """mjr_readPixels(rgb: numpy.typing.NDArray[numpy.uint8], depth: numpy.typing.NDArray[numpy.float32], viewport: mujoco._structs.MjrRect, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_readPixels.
-    """
+Read pixels from current OpenGL framebuffer to client buffer.
+Viewport is in OpenGL framebuffer; client buffer starts at (0,0).
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_readPixels.
+"""
     raise NotImplementedError(
         'mjr_readPixels: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_drawPixels(rgb, depth, viewport, con):
-    """Draw pixels from client buffer to current OpenGL framebuffer.
-    Viewport is in OpenGL framebuffer; client buffer starts at (0,0).
+    """mjr_drawPixels(rgb: numpy.typing.NDArray[numpy.uint8], depth: numpy.typing.NDArray[numpy.float32], viewport: mujoco._structs.MjrRect, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_drawPixels.
-    """
+Draw pixels from client buffer to current OpenGL framebuffer.
+Viewport is in OpenGL framebuffer; client buffer starts at (0,0).
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_drawPixels.
+"""
     raise NotImplementedError(
         'mjr_drawPixels: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_blitBuffer(src, dst, flg_color, flg_depth, con):
-    """Blit from src viewpoint in current framebuffer to dst viewport in other framebuffer.
-    If src, dst have different size and flg_depth==0, color is interpolated with GL_LINEAR.
+    """mjr_blitBuffer(src: mujoco._structs.MjrRect, dst: mujoco._structs.MjrRect, flg_color: int, flg_depth: int, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_blitBuffer.
-    """
+Blit from src viewpoint in current framebuffer to dst viewport in other framebuffer.
+If src, dst have different size and flg_depth==0, color is interpolated with GL_LINEAR.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_blitBuffer.
+"""
     raise NotImplementedError(
         'mjr_blitBuffer: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_setAux(index, con):
-    """Set Aux buffer for custom OpenGL rendering (call restoreBuffer when done).
+    """mjr_setAux(index: int, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_setAux.
-    """
+Set Aux buffer for custom OpenGL rendering (call restoreBuffer when done).
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_setAux.
+"""
     raise NotImplementedError(
         'mjr_setAux: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_blitAux(index, src, left, bottom, con):
-    """Blit from Aux buffer to con->currentBuffer.
+    """mjr_blitAux(index: int, src: mujoco._structs.MjrRect, left: int, bottom: int, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_blitAux.
-    """
+Blit from Aux buffer to con->currentBuffer.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_blitAux.
+"""
     raise NotImplementedError(
         'mjr_blitAux: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_text(font, txt, con, x, y, r, g, b):
-    """Draw text at (x,y) in relative coordinates; font is mjtFont.
+    """mjr_text(font: int, txt: str, con: mujoco._structs.MjrContext, x: float, y: float, r: float, g: float, b: float) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_text.
-    """
+Draw text at (x,y) in relative coordinates; font is mjtFont.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_text.
+"""
     raise NotImplementedError(
         'mjr_text: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_overlay(font, gridpos, viewport, overlay, overlay2, con):
-    """Draw text overlay; font is mjtFont; gridpos is mjtGridPos.
+    """mjr_overlay(font: int, gridpos: int, viewport: mujoco._structs.MjrRect, overlay: str, overlay2: str, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_overlay.
-    """
+Draw text overlay; font is mjtFont; gridpos is mjtGridPos.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_overlay.
+"""
     raise NotImplementedError(
         'mjr_overlay: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_maxViewport(con):
-    """Get maximum viewport for active buffer.
+    """mjr_maxViewport(con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_maxViewport.
-    """
+Get maximum viewport for active buffer.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_maxViewport.
+"""
     raise NotImplementedError(
         'mjr_maxViewport: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_rectangle(viewport, r, g, b, a):
-    """Draw rectangle.
+    """mjr_rectangle(viewport: mujoco._structs.MjrRect, r: float, g: float, b: float, a: float) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_rectangle.
-    """
+Draw rectangle.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_rectangle.
+"""
     raise NotImplementedError(
         'mjr_rectangle: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_label(viewport, font, txt, r, g, b, a, rt, gt, bt, con):
-    """Draw rectangle with centered text.
+    """mjr_label(viewport: mujoco._structs.MjrRect, font: int, txt: str, r: float, g: float, b: float, a: float, rt: float, gt: float, bt: float, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_label.
-    """
+Draw rectangle with centered text.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_label.
+"""
     raise NotImplementedError(
         'mjr_label: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_figure(viewport, fig, con):
-    """Draw 2D figure.
+    """mjr_figure(viewport: mujoco._structs.MjrRect, fig: mujoco._structs.MjvFigure, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_figure.
-    """
+Draw 2D figure.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_figure.
+"""
     raise NotImplementedError(
         'mjr_figure: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_render(viewport, scn, con):
-    """Render 3D scene.
+    """mjr_render(viewport: mujoco._structs.MjrRect, scn: mujoco._structs.MjvScene, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_render.
-    """
+Render 3D scene.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_render.
+"""
     raise NotImplementedError(
         'mjr_render: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_finish():
-    """Call glFinish.
+    """mjr_finish() -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_finish.
-    """
+Call glFinish.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_finish.
+"""
     raise NotImplementedError(
         'mjr_finish: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjr_getError():
-    """Call glGetError and return result.
+    """mjr_getError() -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjr_getError.
-    """
+Call glGetError and return result.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjr_getError.
+"""
     raise NotImplementedError(
         'mjr_getError: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjui_themeSpacing(ind):
-    """Get builtin UI theme spacing (ind: 0-1)."""
+    """mjui_themeSpacing(ind: int) -> mujoco._structs.MjuiThemeSpacing
+
+Get builtin UI theme spacing (ind: 0-1).
+"""
     try:
         ret = _lib.mjcffi_guard_mjui_themeSpacing(ind)
     except (TypeError, OverflowError) as exc:
@@ -2805,7 +3133,10 @@ def mjui_themeSpacing(ind):
 
 
 def mjui_themeColor(ind):
-    """Get builtin UI theme color (ind: 0-3)."""
+    """mjui_themeColor(ind: int) -> mujoco._structs.MjuiThemeColor
+
+Get builtin UI theme color (ind: 0-3).
+"""
     try:
         ret = _lib.mjcffi_guard_mjui_themeColor(ind)
     except (TypeError, OverflowError) as exc:
@@ -2815,112 +3146,134 @@ def mjui_themeColor(ind):
 
 
 def mjui_add(ui, def_):
-    """Add definitions to UI.
+    """mjui_add(ui: mujoco._structs.MjUI, def_: mujoco._structs.MjuiDef) -> None
 
-    Not available in mjcffi: it takes an mjITEM_END-terminated array of mjuiDef.
-    The raw C function is mjcffi.lib.mjui_add.
-    """
+Add definitions to UI.
+
+Not available in mjcffi: it takes an mjITEM_END-terminated array of mjuiDef.
+The raw C function is mjcffi.lib.mjui_add.
+"""
     raise NotImplementedError(
         'mjui_add: it takes an mjITEM_END-terminated array of mjuiDef')
 
 
 def mjui_addToSection(ui, sect, def_):
-    """Add definitions to UI section.
+    """mjui_addToSection(ui: mujoco._structs.MjUI, sect: int, def_: mujoco._structs.MjuiDef) -> None
 
-    Not available in mjcffi: it takes an mjITEM_END-terminated array of mjuiDef.
-    The raw C function is mjcffi.lib.mjui_addToSection.
-    """
+Add definitions to UI section.
+
+Not available in mjcffi: it takes an mjITEM_END-terminated array of mjuiDef.
+The raw C function is mjcffi.lib.mjui_addToSection.
+"""
     raise NotImplementedError(
         'mjui_addToSection: it takes an mjITEM_END-terminated array of mjuiDef')
 
 
 def mjui_resize(ui, con):
-    """Compute UI sizes.
+    """mjui_resize(ui: mujoco._structs.MjUI, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjui_resize.
-    """
+Compute UI sizes.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjui_resize.
+"""
     raise NotImplementedError(
         'mjui_resize: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjui_update(section, item, ui, state, con):
-    """Update specific section/item; -1: update all.
+    """mjui_update(section: int, item: int, ui: mujoco._structs.MjUI, state: mujoco._structs.MjuiState, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjui_update.
-    """
+Update specific section/item; -1: update all.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjui_update.
+"""
     raise NotImplementedError(
         'mjui_update: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjui_event(ui, state, con):
-    """Handle UI event; return pointer to changed item, NULL if no change.
+    """mjui_event(ui: mujoco._structs.MjUI, state: mujoco._structs.MjuiState, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjui_event.
-    """
+Handle UI event; return pointer to changed item, NULL if no change.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjui_event.
+"""
     raise NotImplementedError(
         'mjui_event: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mjui_render(ui, state, con):
-    """Copy UI image to current buffer.
+    """mjui_render(ui: mujoco._structs.MjUI, state: mujoco._structs.MjuiState, con: mujoco._structs.MjrContext) -> None
 
-    Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-    The raw C function is mjcffi.lib.mjui_render.
-    """
+Copy UI image to current buffer.
+
+Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+The raw C function is mjcffi.lib.mjui_render.
+"""
     raise NotImplementedError(
         'mjui_render: needs a current OpenGL context, which mjcffi does not create yet')
 
 
 def mju_error(msg):
-    """Main error function; does not return to caller."""
+    """mju_error(msg: str) -> None
+
+Main error function; does not return to caller.
+"""
     c_msg = _m.text(msg, "msg")
     status = _lib.mjcffi_guard_mju_error(c_msg)
     _m.check(status)
 
 
 def mju_warning(msg):
-    """Main warning function; returns to caller."""
+    """mju_warning(msg: str) -> None
+
+Main warning function; returns to caller.
+"""
     c_msg = _m.text(msg, "msg")
     status = _lib.mjcffi_guard_mju_warning(c_msg)
     _m.check(status)
 
 
 def mju_clearHandlers():
-    """Clear user error and memory handlers."""
+    """mju_clearHandlers() -> None
+
+Clear user error and memory handlers.
+"""
     status = _lib.mjcffi_guard_mju_clearHandlers()
     _m.check(status)
 
 
 def mju_setLogHandler(handler):
-    """Set the active log handler; return the previous handler.
-    If handler is NULL, restore the default handler.
+    """mju_setLogHandler(handler: Any) -> None
 
-    Not available in mjcffi: it installs a C callback.
-    The raw C function is mjcffi.lib.mju_setLogHandler.
-    """
+Set the active log handler; return the previous handler.
+If handler is NULL, restore the default handler.
+
+Not available in mjcffi: it installs a C callback.
+The raw C function is mjcffi.lib.mju_setLogHandler.
+"""
     raise NotImplementedError(
         'mju_setLogHandler: it installs a C callback')
 
 
-def mju_getLogConfig():
-    """Get default handler configuration."""
-    ret = _lib.mjcffi_guard_mju_getLogConfig()
-    _m.check_error()
-    return _m.struct_copy(_structs.MjLogConfig, ret)
-
-
 def mju_setLogConfig(config):
-    """Set default handler configuration."""
+    """mju_setLogConfig(config: mujoco._structs.MjLogConfig) -> None
+
+Set default handler configuration.
+"""
     c_config = _m.struct_value(config, "mjLogConfig", "config")
     status = _lib.mjcffi_guard_mju_setLogConfig(c_config)
     _m.check(status)
 
 
 def mju_info(topic, msg):
-    """Log an info message with optional topic filtering."""
+    """mju_info(topic: int, msg: str) -> None
+
+Log an info message with optional topic filtering.
+"""
     c_msg = _m.text(msg, "msg")
     try:
         status = _lib.mjcffi_guard_mju_info(topic, c_msg)
@@ -2930,14 +3283,20 @@ def mju_info(topic, msg):
 
 
 def mju_message(msg):
-    """Dispatch a structured log message to the active handler."""
+    """mju_message(msg: mujoco._structs.MjLogMessage) -> None
+
+Dispatch a structured log message to the active handler.
+"""
     c_msg = _m.struct(msg, "mjLogMessage", "msg")
     status = _lib.mjcffi_guard_mju_message(c_msg)
     _m.check(status)
 
 
 def mju_malloc(size):
-    """Allocate memory; byte-align on 64; pad size to multiple of 64."""
+    """mju_malloc(size: int) -> Any
+
+Allocate memory; byte-align on 64; pad size to multiple of 64.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_malloc(size)
     except (TypeError, OverflowError) as exc:
@@ -2947,14 +3306,20 @@ def mju_malloc(size):
 
 
 def mju_free(ptr):
-    """Free memory, using free() by default."""
+    """mju_free(ptr: bytearray) -> None
+
+Free memory, using free() by default.
+"""
     c_ptr = _m.opaque(ptr, "ptr", False)
     status = _lib.mjcffi_guard_mju_free(c_ptr)
     _m.check(status)
 
 
 def mj_warning(d, warning, info):
-    """High-level warning function: count warnings in mjData, print only the first."""
+    """mj_warning(d: mujoco._structs.MjData, warning: int, info: int) -> None
+
+High-level warning function: count warnings in mjData, print only the first.
+"""
     c_d = _m.struct(d, "mjData", "d")
     try:
         status = _lib.mjcffi_guard_mj_warning(c_d, warning, info)
@@ -2965,7 +3330,10 @@ def mj_warning(d, warning, info):
 
 
 def mju_writeLog(type, msg):
-    """Write [datetime, type: message] to MUJOCO_LOG.TXT."""
+    """mju_writeLog(type: str, msg: str) -> None
+
+Write [datetime, type: message] to MUJOCO_LOG.TXT.
+"""
     c_type = _m.text(type, "type")
     c_msg = _m.text(msg, "msg")
     status = _lib.mjcffi_guard_mju_writeLog(c_type, c_msg)
@@ -2973,7 +3341,10 @@ def mju_writeLog(type, msg):
 
 
 def mjs_getError(s):
-    """Get compiler error message from spec."""
+    """mjs_getError(s: mujoco._structs.MjSpec) -> str
+
+Get compiler error message from spec.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_getError(c_s)
     _m.check_error()
@@ -2981,7 +3352,10 @@ def mjs_getError(s):
 
 
 def mjs_getTimer(s):
-    """Get compiler timing diagnostics from spec, returns pointer to array of size mjNCTIMER."""
+    """mjs_getTimer(s: mujoco._structs.MjSpec) -> numpy.typing.NDArray[numpy.float64]
+
+Get compiler timing diagnostics from spec, returns pointer to array of size mjNCTIMER.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_getTimer(c_s)
     _m.check_error()
@@ -2989,7 +3363,10 @@ def mjs_getTimer(s):
 
 
 def mjs_isWarning(s):
-    """Return 1 if compiler error is a warning. Deprecated: use mjs_numWarnings(s) > 0."""
+    """mjs_isWarning(s: mujoco._structs.MjSpec) -> int
+
+Return 1 if compiler error is a warning. Deprecated: use mjs_numWarnings(s) > 0.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_isWarning(c_s)
     _m.check_error()
@@ -2997,7 +3374,10 @@ def mjs_isWarning(s):
 
 
 def mjs_numWarnings(spec):
-    """Get number of warnings accumulated in the spec."""
+    """mjs_numWarnings(spec: mujoco._structs.MjSpec) -> int
+
+Get number of warnings accumulated in the spec.
+"""
     c_spec = _m.struct(spec, "mjSpec", "spec")
     ret = _lib.mjcffi_guard_mjs_numWarnings(c_spec)
     _m.check_error()
@@ -3005,7 +3385,10 @@ def mjs_numWarnings(spec):
 
 
 def mjs_getWarning(spec, index):
-    """Get the i-th warning message (returns nullptr if index out of bounds)."""
+    """mjs_getWarning(spec: mujoco._structs.MjSpec, index: int) -> str
+
+Get the i-th warning message (returns nullptr if index out of bounds).
+"""
     c_spec = _m.struct(spec, "mjSpec", "spec")
     try:
         ret = _lib.mjcffi_guard_mjs_getWarning(c_spec, index)
@@ -3016,21 +3399,25 @@ def mjs_getWarning(spec, index):
 
 
 def mju_zero3(res):
-    """Set res = 0.
+    """mju_zero3(res: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    """
+Set res = 0.
+
+res: output array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     status = _lib.mjcffi_guard_mju_zero3(c_res)
     _m.check(status)
 
 
 def mju_copy3(res, data):
-    """Set res = vec.
+    """mju_copy3(res: numpy.typing.NDArray[numpy.float64], data: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    data: array of shape (3,).
-    """
+Set res = vec.
+
+res: output array of shape (3,).
+data: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     data, c_data = _m.array_in(data, _m.NUM, "data", 3)
     status = _lib.mjcffi_guard_mju_copy3(c_res, c_data)
@@ -3038,11 +3425,13 @@ def mju_copy3(res, data):
 
 
 def mju_scl3(res, vec, scl):
-    """Set res = vec*scl.
+    """mju_scl3(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], scl: float) -> None
 
-    res: output array of shape (3,).
-    vec: array of shape (3,).
-    """
+Set res = vec*scl.
+
+res: output array of shape (3,).
+vec: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     try:
@@ -3053,12 +3442,14 @@ def mju_scl3(res, vec, scl):
 
 
 def mju_add3(res, vec1, vec2):
-    """Set res = vec1 + vec2.
+    """mju_add3(res: numpy.typing.NDArray[numpy.float64], vec1: numpy.typing.NDArray[numpy.float64], vec2: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    vec1: array of shape (3,).
-    vec2: array of shape (3,).
-    """
+Set res = vec1 + vec2.
+
+res: output array of shape (3,).
+vec1: array of shape (3,).
+vec2: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     vec1, c_vec1 = _m.array_in(vec1, _m.NUM, "vec1", 3)
     vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", 3)
@@ -3067,12 +3458,14 @@ def mju_add3(res, vec1, vec2):
 
 
 def mju_sub3(res, vec1, vec2):
-    """Set res = vec1 - vec2.
+    """mju_sub3(res: numpy.typing.NDArray[numpy.float64], vec1: numpy.typing.NDArray[numpy.float64], vec2: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    vec1: array of shape (3,).
-    vec2: array of shape (3,).
-    """
+Set res = vec1 - vec2.
+
+res: output array of shape (3,).
+vec1: array of shape (3,).
+vec2: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     vec1, c_vec1 = _m.array_in(vec1, _m.NUM, "vec1", 3)
     vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", 3)
@@ -3081,11 +3474,13 @@ def mju_sub3(res, vec1, vec2):
 
 
 def mju_addTo3(res, vec):
-    """Set res = res + vec.
+    """mju_addTo3(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    vec: array of shape (3,).
-    """
+Set res = res + vec.
+
+res: output array of shape (3,).
+vec: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     status = _lib.mjcffi_guard_mju_addTo3(c_res, c_vec)
@@ -3093,11 +3488,13 @@ def mju_addTo3(res, vec):
 
 
 def mju_subFrom3(res, vec):
-    """Set res = res - vec.
+    """mju_subFrom3(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    vec: array of shape (3,).
-    """
+Set res = res - vec.
+
+res: output array of shape (3,).
+vec: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     status = _lib.mjcffi_guard_mju_subFrom3(c_res, c_vec)
@@ -3105,11 +3502,13 @@ def mju_subFrom3(res, vec):
 
 
 def mju_addToScl3(res, vec, scl):
-    """Set res = res + vec*scl.
+    """mju_addToScl3(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], scl: float) -> None
 
-    res: output array of shape (3,).
-    vec: array of shape (3,).
-    """
+Set res = res + vec*scl.
+
+res: output array of shape (3,).
+vec: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     try:
@@ -3120,12 +3519,14 @@ def mju_addToScl3(res, vec, scl):
 
 
 def mju_addScl3(res, vec1, vec2, scl):
-    """Set res = vec1 + vec2*scl.
+    """mju_addScl3(res: numpy.typing.NDArray[numpy.float64], vec1: numpy.typing.NDArray[numpy.float64], vec2: numpy.typing.NDArray[numpy.float64], scl: float) -> None
 
-    res: output array of shape (3,).
-    vec1: array of shape (3,).
-    vec2: array of shape (3,).
-    """
+Set res = vec1 + vec2*scl.
+
+res: output array of shape (3,).
+vec1: array of shape (3,).
+vec2: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     vec1, c_vec1 = _m.array_in(vec1, _m.NUM, "vec1", 3)
     vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", 3)
@@ -3137,10 +3538,12 @@ def mju_addScl3(res, vec1, vec2, scl):
 
 
 def mju_normalize3(vec):
-    """Normalize vector; return length before normalization.
+    """mju_normalize3(vec: numpy.typing.NDArray[numpy.float64]) -> float
 
-    vec: output array of shape (3,).
-    """
+Normalize vector; return length before normalization.
+
+vec: output array of shape (3,).
+"""
     vec, c_vec = _m.array_out(vec, _m.NUM, "vec", 3)
     ret = _lib.mjcffi_guard_mju_normalize3(c_vec)
     _m.check_error()
@@ -3148,10 +3551,12 @@ def mju_normalize3(vec):
 
 
 def mju_norm3(vec):
-    """Return vector length (without normalizing the vector).
+    """mju_norm3(vec: numpy.typing.NDArray[numpy.float64]) -> float
 
-    vec: array of shape (3,).
-    """
+Return vector length (without normalizing the vector).
+
+vec: array of shape (3,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     ret = _lib.mjcffi_guard_mju_norm3(c_vec)
     _m.check_error()
@@ -3159,11 +3564,13 @@ def mju_norm3(vec):
 
 
 def mju_dot3(vec1, vec2):
-    """Return dot-product of vec1 and vec2.
+    """mju_dot3(vec1: numpy.typing.NDArray[numpy.float64], vec2: numpy.typing.NDArray[numpy.float64]) -> float
 
-    vec1: array of shape (3,).
-    vec2: array of shape (3,).
-    """
+Return dot-product of vec1 and vec2.
+
+vec1: array of shape (3,).
+vec2: array of shape (3,).
+"""
     vec1, c_vec1 = _m.array_in(vec1, _m.NUM, "vec1", 3)
     vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", 3)
     ret = _lib.mjcffi_guard_mju_dot3(c_vec1, c_vec2)
@@ -3172,11 +3579,13 @@ def mju_dot3(vec1, vec2):
 
 
 def mju_dist3(pos1, pos2):
-    """Return Cartesian distance between 3D vectors pos1 and pos2.
+    """mju_dist3(pos1: numpy.typing.NDArray[numpy.float64], pos2: numpy.typing.NDArray[numpy.float64]) -> float
 
-    pos1: array of shape (3,).
-    pos2: array of shape (3,).
-    """
+Return Cartesian distance between 3D vectors pos1 and pos2.
+
+pos1: array of shape (3,).
+pos2: array of shape (3,).
+"""
     pos1, c_pos1 = _m.array_in(pos1, _m.NUM, "pos1", 3)
     pos2, c_pos2 = _m.array_in(pos2, _m.NUM, "pos2", 3)
     ret = _lib.mjcffi_guard_mju_dist3(c_pos1, c_pos2)
@@ -3185,12 +3594,14 @@ def mju_dist3(pos1, pos2):
 
 
 def mju_mulMatVec3(res, mat, vec):
-    """Multiply 3-by-3 matrix by vector: res = mat * vec.
+    """mju_mulMatVec3(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    mat: array of shape (9,).
-    vec: array of shape (3,).
-    """
+Multiply 3-by-3 matrix by vector: res = mat * vec.
+
+res: output array of shape (3,).
+mat: array of shape (9,).
+vec: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat", 9)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
@@ -3199,12 +3610,14 @@ def mju_mulMatVec3(res, mat, vec):
 
 
 def mju_mulMatTVec3(res, mat, vec):
-    """Multiply transposed 3-by-3 matrix by vector: res = mat' * vec.
+    """mju_mulMatTVec3(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    mat: array of shape (9,).
-    vec: array of shape (3,).
-    """
+Multiply transposed 3-by-3 matrix by vector: res = mat' * vec.
+
+res: output array of shape (3,).
+mat: array of shape (9,).
+vec: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat", 9)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
@@ -3213,12 +3626,14 @@ def mju_mulMatTVec3(res, mat, vec):
 
 
 def mju_cross(res, a, b):
-    """Compute cross-product: res = cross(a, b).
+    """mju_cross(res: numpy.typing.NDArray[numpy.float64], a: numpy.typing.NDArray[numpy.float64], b: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    a: array of shape (3,).
-    b: array of shape (3,).
-    """
+Compute cross-product: res = cross(a, b).
+
+res: output array of shape (3,).
+a: array of shape (3,).
+b: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     a, c_a = _m.array_in(a, _m.NUM, "a", 3)
     b, c_b = _m.array_in(b, _m.NUM, "b", 3)
@@ -3227,31 +3642,37 @@ def mju_cross(res, a, b):
 
 
 def mju_zero4(res):
-    """Set res = 0.
+    """mju_zero4(res: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (4,).
-    """
+Set res = 0.
+
+res: output array of shape (4,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 4)
     status = _lib.mjcffi_guard_mju_zero4(c_res)
     _m.check(status)
 
 
 def mju_unit4(res):
-    """Set res = (1,0,0,0).
+    """mju_unit4(res: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (4,).
-    """
+Set res = (1,0,0,0).
+
+res: output array of shape (4,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 4)
     status = _lib.mjcffi_guard_mju_unit4(c_res)
     _m.check(status)
 
 
 def mju_copy4(res, data):
-    """Set res = vec.
+    """mju_copy4(res: numpy.typing.NDArray[numpy.float64], data: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (4,).
-    data: array of shape (4,).
-    """
+Set res = vec.
+
+res: output array of shape (4,).
+data: array of shape (4,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 4)
     data, c_data = _m.array_in(data, _m.NUM, "data", 4)
     status = _lib.mjcffi_guard_mju_copy4(c_res, c_data)
@@ -3259,10 +3680,12 @@ def mju_copy4(res, data):
 
 
 def mju_normalize4(vec):
-    """Normalize vector; return length before normalization.
+    """mju_normalize4(vec: numpy.typing.NDArray[numpy.float64]) -> float
 
-    vec: output array of shape (4,).
-    """
+Normalize vector; return length before normalization.
+
+vec: output array of shape (4,).
+"""
     vec, c_vec = _m.array_out(vec, _m.NUM, "vec", 4)
     ret = _lib.mjcffi_guard_mju_normalize4(c_vec)
     _m.check_error()
@@ -3270,10 +3693,12 @@ def mju_normalize4(vec):
 
 
 def mju_zero(res):
-    """Set res = 0.
+    """mju_zero(res: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n,).
-    """
+Set res = 0.
+
+res: output array of shape (n,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res")
     n = _m.dim(res, 1, 0, 1, "res")
     _m.shape(res, n, "res")
@@ -3285,10 +3710,12 @@ def mju_zero(res):
 
 
 def mju_fill(res, val):
-    """Set res = val.
+    """mju_fill(res: numpy.typing.NDArray[numpy.float64], val: float) -> None
 
-    res: output array of shape (n,).
-    """
+Set res = val.
+
+res: output array of shape (n,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res")
     n = _m.dim(res, 1, 0, 1, "res")
     _m.shape(res, n, "res")
@@ -3300,15 +3727,17 @@ def mju_fill(res, val):
 
 
 def mju_copy(res, vec):
-    """Set res = vec.
+    """mju_copy(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n,).
-    vec: array of shape (n,).
-    """
+Set res = vec.
+
+res: output array of shape (n,).
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
-    n = _m.dim(vec, 1, 0, 1, "vec")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
-    _m.shape(vec, n, "vec")
+    n = _m.dim(vec, 1, 0, 1, "vec", 'res and data should have the same size')
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and data should have the same size')
+    _m.shape(vec, n, "vec", 'res and data should have the same size')
     try:
         status = _lib.mjcffi_guard_mju_copy(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
@@ -3317,10 +3746,12 @@ def mju_copy(res, vec):
 
 
 def mju_sum(vec):
-    """Return sum(vec).
+    """mju_sum(vec: numpy.typing.NDArray[numpy.float64]) -> float
 
-    vec: array of shape (n,).
-    """
+Return sum(vec).
+
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
     n = _m.dim(vec, 1, 0, 1, "vec")
     _m.shape(vec, n, "vec")
@@ -3333,10 +3764,12 @@ def mju_sum(vec):
 
 
 def mju_L1(vec):
-    """Return L1 norm: sum(abs(vec)).
+    """mju_L1(vec: numpy.typing.NDArray[numpy.float64]) -> float
 
-    vec: array of shape (n,).
-    """
+Return L1 norm: sum(abs(vec)).
+
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
     n = _m.dim(vec, 1, 0, 1, "vec")
     _m.shape(vec, n, "vec")
@@ -3349,15 +3782,17 @@ def mju_L1(vec):
 
 
 def mju_scl(res, vec, scl):
-    """Set res = vec*scl.
+    """mju_scl(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], scl: float) -> None
 
-    res: output array of shape (n,).
-    vec: array of shape (n,).
-    """
+Set res = vec*scl.
+
+res: output array of shape (n,).
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
-    n = _m.dim(vec, 1, 0, 1, "vec")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
-    _m.shape(vec, n, "vec")
+    n = _m.dim(vec, 1, 0, 1, "vec", 'res and vec should have the same size')
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and vec should have the same size')
+    _m.shape(vec, n, "vec", 'res and vec should have the same size')
     try:
         status = _lib.mjcffi_guard_mju_scl(c_res, c_vec, scl, n)
     except (TypeError, OverflowError) as exc:
@@ -3366,17 +3801,19 @@ def mju_scl(res, vec, scl):
 
 
 def mju_add(res, vec1, vec2):
-    """Set res = vec1 + vec2.
+    """mju_add(res: numpy.typing.NDArray[numpy.float64], vec1: numpy.typing.NDArray[numpy.float64], vec2: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n,).
-    vec1: array of shape (n,).
-    vec2: array of shape (n,).
-    """
+Set res = vec1 + vec2.
+
+res: output array of shape (n,).
+vec1: array of shape (n,).
+vec2: array of shape (n,).
+"""
     vec1, c_vec1 = _m.array_in(vec1, _m.NUM, "vec1")
     n = _m.dim(vec1, 1, 0, 1, "vec1")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and vec1 should have the same size')
+    vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", n, 'res and vec2 should have the same size')
     _m.shape(vec1, n, "vec1")
-    vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", n)
     try:
         status = _lib.mjcffi_guard_mju_add(c_res, c_vec1, c_vec2, n)
     except (TypeError, OverflowError) as exc:
@@ -3385,17 +3822,19 @@ def mju_add(res, vec1, vec2):
 
 
 def mju_sub(res, vec1, vec2):
-    """Set res = vec1 - vec2.
+    """mju_sub(res: numpy.typing.NDArray[numpy.float64], vec1: numpy.typing.NDArray[numpy.float64], vec2: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n,).
-    vec1: array of shape (n,).
-    vec2: array of shape (n,).
-    """
+Set res = vec1 - vec2.
+
+res: output array of shape (n,).
+vec1: array of shape (n,).
+vec2: array of shape (n,).
+"""
     vec1, c_vec1 = _m.array_in(vec1, _m.NUM, "vec1")
     n = _m.dim(vec1, 1, 0, 1, "vec1")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and vec1 should have the same size')
+    vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", n, 'res and vec2 should have the same size')
     _m.shape(vec1, n, "vec1")
-    vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", n)
     try:
         status = _lib.mjcffi_guard_mju_sub(c_res, c_vec1, c_vec2, n)
     except (TypeError, OverflowError) as exc:
@@ -3404,15 +3843,17 @@ def mju_sub(res, vec1, vec2):
 
 
 def mju_addTo(res, vec):
-    """Set res = res + vec.
+    """mju_addTo(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n,).
-    vec: array of shape (n,).
-    """
+Set res = res + vec.
+
+res: output array of shape (n,).
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
-    n = _m.dim(vec, 1, 0, 1, "vec")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
-    _m.shape(vec, n, "vec")
+    n = _m.dim(vec, 1, 0, 1, "vec", 'res and vec should have the same size')
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and vec should have the same size')
+    _m.shape(vec, n, "vec", 'res and vec should have the same size')
     try:
         status = _lib.mjcffi_guard_mju_addTo(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
@@ -3421,15 +3862,17 @@ def mju_addTo(res, vec):
 
 
 def mju_subFrom(res, vec):
-    """Set res = res - vec.
+    """mju_subFrom(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n,).
-    vec: array of shape (n,).
-    """
+Set res = res - vec.
+
+res: output array of shape (n,).
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
-    n = _m.dim(vec, 1, 0, 1, "vec")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
-    _m.shape(vec, n, "vec")
+    n = _m.dim(vec, 1, 0, 1, "vec", 'res and vec should have the same size')
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and vec should have the same size')
+    _m.shape(vec, n, "vec", 'res and vec should have the same size')
     try:
         status = _lib.mjcffi_guard_mju_subFrom(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
@@ -3438,15 +3881,17 @@ def mju_subFrom(res, vec):
 
 
 def mju_addToScl(res, vec, scl):
-    """Set res = res + vec*scl.
+    """mju_addToScl(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], scl: float) -> None
 
-    res: output array of shape (n,).
-    vec: array of shape (n,).
-    """
+Set res = res + vec*scl.
+
+res: output array of shape (n,).
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
-    n = _m.dim(vec, 1, 0, 1, "vec")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
-    _m.shape(vec, n, "vec")
+    n = _m.dim(vec, 1, 0, 1, "vec", 'res and vec should have the same size')
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and vec should have the same size')
+    _m.shape(vec, n, "vec", 'res and vec should have the same size')
     try:
         status = _lib.mjcffi_guard_mju_addToScl(c_res, c_vec, scl, n)
     except (TypeError, OverflowError) as exc:
@@ -3456,17 +3901,19 @@ def mju_addToScl(res, vec, scl):
 
 
 def mju_addScl(res, vec1, vec2, scl):
-    """Set res = vec1 + vec2*scl.
+    """mju_addScl(res: numpy.typing.NDArray[numpy.float64], vec1: numpy.typing.NDArray[numpy.float64], vec2: numpy.typing.NDArray[numpy.float64], scl: float) -> None
 
-    res: output array of shape (n,).
-    vec1: array of shape (n,).
-    vec2: array of shape (n,).
-    """
+Set res = vec1 + vec2*scl.
+
+res: output array of shape (n,).
+vec1: array of shape (n,).
+vec2: array of shape (n,).
+"""
     vec1, c_vec1 = _m.array_in(vec1, _m.NUM, "vec1")
     n = _m.dim(vec1, 1, 0, 1, "vec1")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and vec1 should have the same size')
+    vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", n, 'res and vec2 should have the same size')
     _m.shape(vec1, n, "vec1")
-    vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", n)
     try:
         status = _lib.mjcffi_guard_mju_addScl(c_res, c_vec1, c_vec2, scl, n)
     except (TypeError, OverflowError) as exc:
@@ -3476,10 +3923,12 @@ def mju_addScl(res, vec1, vec2, scl):
 
 
 def mju_normalize(res):
-    """Normalize vector; return length before normalization.
+    """mju_normalize(res: numpy.typing.NDArray[numpy.float64]) -> float
 
-    res: output array of shape (n,).
-    """
+Normalize vector; return length before normalization.
+
+res: output array of shape (n,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res")
     n = _m.dim(res, 1, 0, 1, "res")
     _m.shape(res, n, "res")
@@ -3492,10 +3941,12 @@ def mju_normalize(res):
 
 
 def mju_norm(res):
-    """Return vector length (without normalizing vector).
+    """mju_norm(res: numpy.typing.NDArray[numpy.float64]) -> float
 
-    res: array of shape (n,).
-    """
+Return vector length (without normalizing vector).
+
+res: array of shape (n,).
+"""
     res, c_res = _m.array_in(res, _m.NUM, "res")
     n = _m.dim(res, 1, 0, 1, "res")
     _m.shape(res, n, "res")
@@ -3508,15 +3959,17 @@ def mju_norm(res):
 
 
 def mju_dot(vec1, vec2):
-    """Return dot-product of vec1 and vec2.
+    """mju_dot(vec1: numpy.typing.NDArray[numpy.float64], vec2: numpy.typing.NDArray[numpy.float64]) -> float
 
-    vec1: array of shape (n,).
-    vec2: array of shape (n,).
-    """
+Return dot-product of vec1 and vec2.
+
+vec1: array of shape (n,).
+vec2: array of shape (n,).
+"""
     vec1, c_vec1 = _m.array_in(vec1, _m.NUM, "vec1")
     n = _m.dim(vec1, 1, 0, 1, "vec1")
+    vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", n, 'vec1 and vec2 should have the same size')
     _m.shape(vec1, n, "vec1")
-    vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", n)
     try:
         ret = _lib.mjcffi_guard_mju_dot(c_vec1, c_vec2, n)
     except (TypeError, OverflowError) as exc:
@@ -3526,18 +3979,20 @@ def mju_dot(vec1, vec2):
 
 
 def mju_mulMatVec(res, mat, vec):
-    """Multiply matrix and vector: res = mat * vec.
+    """mju_mulMatVec(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (nr,).
-    mat: array of shape (nr, nc).
-    vec: array of shape (nc,).
-    """
+Multiply matrix and vector: res = mat * vec.
+
+res: output array of shape (nr,).
+mat: array of shape (nr, nc).
+vec: array of shape (nc,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res")
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
     nr = _m.dim(res, 1, 0, 1, "res")
     nc = _m.dim(vec, 1, 0, 1, "vec")
+    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", (nr, nc), ((0, 'size of res should equal the number of rows in mat'), (1, 'size of vec should equal the number of columns in mat')))
     _m.shape(res, nr, "res")
-    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", (nr, nc))
     _m.shape(vec, nc, "vec")
     try:
         status = _lib.mjcffi_guard_mju_mulMatVec(c_res, c_mat, c_vec, nr, nc)
@@ -3548,18 +4003,20 @@ def mju_mulMatVec(res, mat, vec):
 
 
 def mju_mulMatTVec(res, mat, vec):
-    """Multiply transposed matrix and vector: res = mat' * vec.
+    """mju_mulMatTVec(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (nc,).
-    mat: array of shape (nr, nc).
-    vec: array of shape (nr,).
-    """
+Multiply transposed matrix and vector: res = mat' * vec.
+
+res: output array of shape (nc,).
+mat: array of shape (nr, nc).
+vec: array of shape (nr,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res")
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
     nr = _m.dim(vec, 1, 0, 1, "vec")
     nc = _m.dim(res, 1, 0, 1, "res")
+    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", (nr, nc), ((1, 'size of res should equal the number of columns in mat'), (0, 'size of vec should equal the number of rows in mat')))
     _m.shape(res, nc, "res")
-    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", (nr, nc))
     _m.shape(vec, nr, "vec")
     try:
         status = _lib.mjcffi_guard_mju_mulMatTVec(c_res, c_mat, c_vec, nr, nc)
@@ -3570,17 +4027,19 @@ def mju_mulMatTVec(res, mat, vec):
 
 
 def mju_mulVecMatVec(vec1, mat, vec2):
-    """Multiply square matrix with vectors on both sides: return vec1' * mat * vec2.
+    """mju_mulVecMatVec(vec1: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], vec2: numpy.typing.NDArray[numpy.float64]) -> float
 
-    vec1: array of shape (n,).
-    mat: array of shape (n, n).
-    vec2: array of shape (n,).
-    """
+Multiply square matrix with vectors on both sides: return vec1' * mat * vec2.
+
+vec1: array of shape (n,).
+mat: array of shape (n, n).
+vec2: array of shape (n,).
+"""
     vec1, c_vec1 = _m.array_in(vec1, _m.NUM, "vec1")
     n = _m.dim(vec1, 1, 0, 1, "vec1")
+    vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", n, 'size of vec1 should equal the size of vec2')
+    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", (n, n), 'size of vectors should equal the number of columns in mat')
     _m.shape(vec1, n, "vec1")
-    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", (n, n))
-    vec2, c_vec2 = _m.array_in(vec2, _m.NUM, "vec2", n)
     try:
         ret = _lib.mjcffi_guard_mju_mulVecMatVec(c_vec1, c_mat, c_vec2, n)
     except (TypeError, OverflowError) as exc:
@@ -3590,15 +4049,17 @@ def mju_mulVecMatVec(vec1, mat, vec2):
 
 
 def mju_transpose(res, mat):
-    """Transpose matrix: res = mat'.
+    """mju_transpose(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (nc, nr).
-    mat: array of shape (nr, nc).
-    """
+Transpose matrix: res = mat'.
+
+res: output array of shape (nc, nr).
+mat: array of shape (nr, nc).
+"""
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat")
     nr = _m.dim(mat, 2, 0, 1, "mat")
     nc = _m.dim(mat, 2, 1, 1, "mat")
-    res, c_res = _m.array_out(res, _m.NUM, "res", (nc, nr))
+    res, c_res = _m.array_out(res, _m.NUM, "res", (nc, nr), ((1, '#columns in res should equal #rows in mat'),))
     _m.shape(mat, (nr, nc), "mat")
     try:
         status = _lib.mjcffi_guard_mju_transpose(c_res, c_mat, nr, nc)
@@ -3609,15 +4070,17 @@ def mju_transpose(res, mat):
 
 
 def mju_symmetrize(res, mat):
-    """Symmetrize square matrix res = (mat + mat')/2.
+    """mju_symmetrize(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n, n).
-    mat: array of shape (n, n).
-    """
+Symmetrize square matrix res = (mat + mat')/2.
+
+res: output array of shape (n, n).
+mat: array of shape (n, n).
+"""
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat")
-    n = _m.dim(mat, 2, 0, 1, "mat")
-    res, c_res = _m.array_out(res, _m.NUM, "res", (n, n))
-    _m.shape(mat, (n, n), "mat")
+    n = _m.dim(mat, 2, 0, 1, "mat", 'mat should be square')
+    _m.shape(mat, (n, n), "mat", 'mat should be square')
+    res, c_res = _m.array_out(res, _m.NUM, "res", (n, n), 'res and mat should have the same shape')
     try:
         status = _lib.mjcffi_guard_mju_symmetrize(c_res, c_mat, n)
     except (TypeError, OverflowError) as exc:
@@ -3626,13 +4089,15 @@ def mju_symmetrize(res, mat):
 
 
 def mju_eye(mat):
-    """Set mat to the identity matrix.
+    """mju_eye(mat: numpy.typing.NDArray[numpy.float64]) -> None
 
-    mat: output array of shape (n, n).
-    """
+Set mat to the identity matrix.
+
+mat: output array of shape (n, n).
+"""
     mat, c_mat = _m.array_out(mat, _m.NUM, "mat")
-    n = _m.dim(mat, 2, 0, 1, "mat")
-    _m.shape(mat, (n, n), "mat")
+    n = _m.dim(mat, 2, 0, 1, "mat", 'mat should be square')
+    _m.shape(mat, (n, n), "mat", 'mat should be square')
     try:
         status = _lib.mjcffi_guard_mju_eye(c_mat, n)
     except (TypeError, OverflowError) as exc:
@@ -3641,20 +4106,22 @@ def mju_eye(mat):
 
 
 def mju_mulMatMat(res, mat1, mat2):
-    """Multiply matrices: res = mat1 * mat2.
+    """mju_mulMatMat(res: numpy.typing.NDArray[numpy.float64], mat1: numpy.typing.NDArray[numpy.float64], mat2: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (r1, c2).
-    mat1: array of shape (r1, c1).
-    mat2: array of shape (c1, c2).
-    """
+Multiply matrices: res = mat1 * mat2.
+
+res: output array of shape (r1, c2).
+mat1: array of shape (r1, c1).
+mat2: array of shape (c1, c2).
+"""
     mat1, c_mat1 = _m.array_in(mat1, _m.NUM, "mat1")
     mat2, c_mat2 = _m.array_in(mat2, _m.NUM, "mat2")
     r1 = _m.dim(mat1, 2, 0, 1, "mat1")
     c1 = _m.dim(mat1, 2, 1, 1, "mat1")
-    c2 = _m.dim(mat2, 2, 1, 1, "mat2")
-    res, c_res = _m.array_out(res, _m.NUM, "res", (r1, c2))
+    c2 = _m.dim(mat2, 2, 1, 1, "mat2", ((0, '#columns in mat1 should equal #rows in mat2'),))
+    res, c_res = _m.array_out(res, _m.NUM, "res", (r1, c2), ((0, '#rows in res should equal #rows in mat1'), (1, '#columns in res should equal #columns in mat2')))
+    _m.shape(mat2, (c1, c2), "mat2", ((0, '#columns in mat1 should equal #rows in mat2'),))
     _m.shape(mat1, (r1, c1), "mat1")
-    _m.shape(mat2, (c1, c2), "mat2")
     try:
         status = _lib.mjcffi_guard_mju_mulMatMat(c_res, c_mat1, c_mat2, r1, c1, c2)
     except (TypeError, OverflowError) as exc:
@@ -3664,20 +4131,22 @@ def mju_mulMatMat(res, mat1, mat2):
 
 
 def mju_mulMatMatT(res, mat1, mat2):
-    """Multiply matrices, second argument transposed: res = mat1 * mat2'.
+    """mju_mulMatMatT(res: numpy.typing.NDArray[numpy.float64], mat1: numpy.typing.NDArray[numpy.float64], mat2: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (r1, r2).
-    mat1: array of shape (r1, c1).
-    mat2: array of shape (r2, c1).
-    """
+Multiply matrices, second argument transposed: res = mat1 * mat2'.
+
+res: output array of shape (r1, r2).
+mat1: array of shape (r1, c1).
+mat2: array of shape (r2, c1).
+"""
     mat1, c_mat1 = _m.array_in(mat1, _m.NUM, "mat1")
     mat2, c_mat2 = _m.array_in(mat2, _m.NUM, "mat2")
     r1 = _m.dim(mat1, 2, 0, 1, "mat1")
     c1 = _m.dim(mat1, 2, 1, 1, "mat1")
-    r2 = _m.dim(mat2, 2, 0, 1, "mat2")
-    res, c_res = _m.array_out(res, _m.NUM, "res", (r1, r2))
+    r2 = _m.dim(mat2, 2, 0, 1, "mat2", ((1, '#columns in mat1 should equal #columns in mat2'),))
+    res, c_res = _m.array_out(res, _m.NUM, "res", (r1, r2), ((0, '#rows in res should equal #rows in mat1'), (1, '#columns in res should equal #rows in mat2')))
+    _m.shape(mat2, (r2, c1), "mat2", ((1, '#columns in mat1 should equal #columns in mat2'),))
     _m.shape(mat1, (r1, c1), "mat1")
-    _m.shape(mat2, (r2, c1), "mat2")
     try:
         status = _lib.mjcffi_guard_mju_mulMatMatT(c_res, c_mat1, c_mat2, r1, c1, r2)
     except (TypeError, OverflowError) as exc:
@@ -3687,20 +4156,22 @@ def mju_mulMatMatT(res, mat1, mat2):
 
 
 def mju_mulMatTMat(res, mat1, mat2):
-    """Multiply matrices, first argument transposed: res = mat1' * mat2.
+    """mju_mulMatTMat(res: numpy.typing.NDArray[numpy.float64], mat1: numpy.typing.NDArray[numpy.float64], mat2: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (c1, c2).
-    mat1: array of shape (r1, c1).
-    mat2: array of shape (r1, c2).
-    """
+Multiply matrices, first argument transposed: res = mat1' * mat2.
+
+res: output array of shape (c1, c2).
+mat1: array of shape (r1, c1).
+mat2: array of shape (r1, c2).
+"""
     mat1, c_mat1 = _m.array_in(mat1, _m.NUM, "mat1")
     mat2, c_mat2 = _m.array_in(mat2, _m.NUM, "mat2")
     r1 = _m.dim(mat1, 2, 0, 1, "mat1")
     c1 = _m.dim(mat1, 2, 1, 1, "mat1")
-    c2 = _m.dim(mat2, 2, 1, 1, "mat2")
-    res, c_res = _m.array_out(res, _m.NUM, "res", (c1, c2))
+    c2 = _m.dim(mat2, 2, 1, 1, "mat2", ((0, '#rows in mat1 should equal #rows in mat2'),))
+    res, c_res = _m.array_out(res, _m.NUM, "res", (c1, c2), ((0, '#rows in res should equal #columns in mat1'), (1, '#columns in res should equal #columns in mat2')))
+    _m.shape(mat2, (r1, c2), "mat2", ((0, '#rows in mat1 should equal #rows in mat2'),))
     _m.shape(mat1, (r1, c1), "mat1")
-    _m.shape(mat2, (r1, c2), "mat2")
     try:
         status = _lib.mjcffi_guard_mju_mulMatTMat(c_res, c_mat1, c_mat2, r1, c1, c2)
     except (TypeError, OverflowError) as exc:
@@ -3710,19 +4181,20 @@ def mju_mulMatTMat(res, mat1, mat2):
 
 
 def mju_sqrMatTD(res, mat, diag):
-    """Set res = mat' * diag * mat if diag is not NULL, and res = mat' * mat otherwise.
+    """mju_sqrMatTD(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], diag: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (nc, nc).
-    mat: array of shape (nr, nc).
-    diag: array of shape (nr,).
-    """
+Set res = mat' * diag * mat if diag is not NULL, and res = mat' * mat otherwise.
+
+res: output array of shape (nc, nc).
+mat: array of shape (nr, nc).
+diag: array of shape (nr,).
+"""
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat")
-    diag, c_diag = _m.array_in(diag, _m.NUM, "diag")
-    nr = _m.dim(diag, 1, 0, 1, "diag")
+    nr = _m.dim(mat, 2, 0, 1, "mat")
     nc = _m.dim(mat, 2, 1, 1, "mat")
-    res, c_res = _m.array_out(res, _m.NUM, "res", (nc, nc))
+    res, c_res = _m.array_out(res, _m.NUM, "res", (nc, nc), '#rows in res should equal #columns in mat')
+    diag, c_diag = _m.array_in(diag, _m.NUM, "diag", nr, 'size of diag should equal the number of rows in mat')
     _m.shape(mat, (nr, nc), "mat")
-    _m.shape(diag, nr, "diag")
     try:
         status = _lib.mjcffi_guard_mju_sqrMatTD(c_res, c_mat, c_diag, nr, nc)
     except (TypeError, OverflowError) as exc:
@@ -3731,15 +4203,17 @@ def mju_sqrMatTD(res, mat, diag):
 
 
 def mju_transformSpatial(res, vec, flg_force, newpos, oldpos, rotnew2old=None):
-    """Coordinate transform of 6D motion or force vector in rotation:translation format.
-    rotnew2old is 3-by-3, NULL means no rotation; flg_force specifies force or motion type.
+    """mju_transformSpatial(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], flg_force: int, newpos: numpy.typing.NDArray[numpy.float64], oldpos: numpy.typing.NDArray[numpy.float64], rotnew2old: numpy.typing.NDArray[numpy.float64] | None = None) -> None
 
-    res: output array of shape (6,).
-    vec: array of shape (6,).
-    newpos: array of shape (3,).
-    oldpos: array of shape (3,).
-    rotnew2old: array of shape (9,) or None.
-    """
+Coordinate transform of 6D motion or force vector in rotation:translation format.
+rotnew2old is 3-by-3, NULL means no rotation; flg_force specifies force or motion type.
+
+res: output array of shape (6,).
+vec: array of shape (6,).
+newpos: array of shape (3,).
+oldpos: array of shape (3,).
+rotnew2old: array of shape (9,) or None.
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 6)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 6)
     newpos, c_newpos = _m.array_in(newpos, _m.NUM, "newpos", 3)
@@ -3755,26 +4229,28 @@ def mju_transformSpatial(res, vec, flg_force, newpos, oldpos, rotnew2old=None):
 
 
 def mju_dense2sparse(res, mat, rownnz, rowadr, colind):
-    """Convert matrix from dense to sparse.
-     nnz is size of res and colind; return 1 if too small, 0 otherwise.
+    """mju_dense2sparse(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], rownnz: numpy.typing.NDArray[numpy.int32], rowadr: numpy.typing.NDArray[numpy.int32], colind: numpy.typing.NDArray[numpy.int32]) -> int
 
-    res: output array of shape (nnz,).
-    mat: array of shape (nr, nc).
-    rownnz: output array of shape (nr,).
-    rowadr: output array of shape (nr,).
-    colind: output array of shape (nnz,).
-    """
+Convert matrix from dense to sparse.
+ nnz is size of res and colind; return 1 if too small, 0 otherwise.
+
+res: output array of shape (nnz,).
+mat: array of shape (nr, nc).
+rownnz: output array of shape (nr,).
+rowadr: output array of shape (nr,).
+colind: output array of shape (nnz,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res")
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat")
     rownnz, c_rownnz = _m.array_out(rownnz, _m.INT, "rownnz")
     nr = _m.dim(rownnz, 1, 0, 1, "rownnz")
-    nc = _m.dim(mat, 2, 1, 1, "mat")
+    nc = _m.dim(mat, 2, 1, 1, "mat", ((0, '#rows in mat should equal size of rownnz'),))
     nnz = _m.dim(res, 1, 0, 1, "res")
+    _m.shape(mat, (nr, nc), "mat", ((0, '#rows in mat should equal size of rownnz'),))
+    rowadr, c_rowadr = _m.array_out(rowadr, _m.INT, "rowadr", nr, '#rows in mat should equal size of rowadr')
+    colind, c_colind = _m.array_out(colind, _m.INT, "colind", nnz, '#size of res should equal size of colind')
     _m.shape(res, nnz, "res")
-    _m.shape(mat, (nr, nc), "mat")
     _m.shape(rownnz, nr, "rownnz")
-    rowadr, c_rowadr = _m.array_out(rowadr, _m.INT, "rowadr", nr)
-    colind, c_colind = _m.array_out(colind, _m.INT, "colind", nnz)
     try:
         ret = _lib.mjcffi_guard_mju_dense2sparse(
             c_res, c_mat, nr, nc, c_rownnz, c_rowadr, c_colind, nnz)
@@ -3786,12 +4262,14 @@ def mju_dense2sparse(res, mat, rownnz, rowadr, colind):
 
 
 def mju_sparse2dense(res, mat, rownnz, rowadr, colind):
-    """Convert matrix from sparse to dense.
+    """mju_sparse2dense(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], rownnz: numpy.typing.NDArray[numpy.int32], rowadr: numpy.typing.NDArray[numpy.int32], colind: numpy.typing.NDArray[numpy.int32]) -> None
 
-    res: output array of shape (nr, nc).
-    rownnz: array of shape (nr,).
-    rowadr: array of shape (nr,).
-    """
+Convert matrix from sparse to dense.
+
+res: output array of shape (nr, nc).
+rownnz: array of shape (nr,).
+rowadr: array of shape (nr,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res")
     rownnz, c_rownnz = _m.array_in(rownnz, _m.INT, "rownnz")
     nr = _m.dim(rownnz, 1, 0, 1, "rownnz")
@@ -3812,12 +4290,14 @@ def mju_sparse2dense(res, mat, rownnz, rowadr, colind):
 
 
 def mju_sym2dense(res, mat, rownnz, rowadr, colind):
-    """Convert lower-triangular symmetric CSR matrix to full dense matrix.
+    """mju_sym2dense(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], rownnz: numpy.typing.NDArray[numpy.int32], rowadr: numpy.typing.NDArray[numpy.int32], colind: numpy.typing.NDArray[numpy.int32]) -> None
 
-    res: output array of shape (n, n).
-    rownnz: array of shape (n,).
-    rowadr: array of shape (n,).
-    """
+Convert lower-triangular symmetric CSR matrix to full dense matrix.
+
+res: output array of shape (n, n).
+rownnz: array of shape (n,).
+rowadr: array of shape (n,).
+"""
     rownnz, c_rownnz = _m.array_in(rownnz, _m.INT, "rownnz")
     n = _m.dim(rownnz, 1, 0, 1, "rownnz")
     res, c_res = _m.array_out(res, _m.NUM, "res", (n, n))
@@ -3834,12 +4314,14 @@ def mju_sym2dense(res, mat, rownnz, rowadr, colind):
 
 
 def mju_rotVecQuat(res, vec, quat):
-    """Rotate vector by quaternion.
+    """mju_rotVecQuat(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], quat: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    vec: array of shape (3,).
-    quat: array of shape (4,).
-    """
+Rotate vector by quaternion.
+
+res: output array of shape (3,).
+vec: array of shape (3,).
+quat: array of shape (4,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     quat, c_quat = _m.array_in(quat, _m.NUM, "quat", 4)
@@ -3848,11 +4330,13 @@ def mju_rotVecQuat(res, vec, quat):
 
 
 def mju_negQuat(res, quat):
-    """Conjugate quaternion, corresponding to opposite rotation.
+    """mju_negQuat(res: numpy.typing.NDArray[numpy.float64], quat: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (4,).
-    quat: array of shape (4,).
-    """
+Conjugate quaternion, corresponding to opposite rotation.
+
+res: output array of shape (4,).
+quat: array of shape (4,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 4)
     quat, c_quat = _m.array_in(quat, _m.NUM, "quat", 4)
     status = _lib.mjcffi_guard_mju_negQuat(c_res, c_quat)
@@ -3860,12 +4344,14 @@ def mju_negQuat(res, quat):
 
 
 def mju_mulQuat(res, quat1, quat2):
-    """Multiply quaternions.
+    """mju_mulQuat(res: numpy.typing.NDArray[numpy.float64], quat1: numpy.typing.NDArray[numpy.float64], quat2: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (4,).
-    quat1: array of shape (4,).
-    quat2: array of shape (4,).
-    """
+Multiply quaternions.
+
+res: output array of shape (4,).
+quat1: array of shape (4,).
+quat2: array of shape (4,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 4)
     quat1, c_quat1 = _m.array_in(quat1, _m.NUM, "quat1", 4)
     quat2, c_quat2 = _m.array_in(quat2, _m.NUM, "quat2", 4)
@@ -3874,12 +4360,14 @@ def mju_mulQuat(res, quat1, quat2):
 
 
 def mju_mulQuatAxis(res, quat, axis):
-    """Multiply quaternion and axis.
+    """mju_mulQuatAxis(res: numpy.typing.NDArray[numpy.float64], quat: numpy.typing.NDArray[numpy.float64], axis: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (4,).
-    quat: array of shape (4,).
-    axis: array of shape (3,).
-    """
+Multiply quaternion and axis.
+
+res: output array of shape (4,).
+quat: array of shape (4,).
+axis: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 4)
     quat, c_quat = _m.array_in(quat, _m.NUM, "quat", 4)
     axis, c_axis = _m.array_in(axis, _m.NUM, "axis", 3)
@@ -3888,11 +4376,13 @@ def mju_mulQuatAxis(res, quat, axis):
 
 
 def mju_axisAngle2Quat(res, axis, angle):
-    """Convert axisAngle to quaternion.
+    """mju_axisAngle2Quat(res: numpy.typing.NDArray[numpy.float64], axis: numpy.typing.NDArray[numpy.float64], angle: float) -> None
 
-    res: output array of shape (4,).
-    axis: array of shape (3,).
-    """
+Convert axisAngle to quaternion.
+
+res: output array of shape (4,).
+axis: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 4)
     axis, c_axis = _m.array_in(axis, _m.NUM, "axis", 3)
     try:
@@ -3903,11 +4393,13 @@ def mju_axisAngle2Quat(res, axis, angle):
 
 
 def mju_quat2Vel(res, quat, dt):
-    """Convert quaternion (corresponding to orientation difference) to 3D velocity.
+    """mju_quat2Vel(res: numpy.typing.NDArray[numpy.float64], quat: numpy.typing.NDArray[numpy.float64], dt: float) -> None
 
-    res: output array of shape (3,).
-    quat: array of shape (4,).
-    """
+Convert quaternion (corresponding to orientation difference) to 3D velocity.
+
+res: output array of shape (3,).
+quat: array of shape (4,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     quat, c_quat = _m.array_in(quat, _m.NUM, "quat", 4)
     try:
@@ -3918,12 +4410,14 @@ def mju_quat2Vel(res, quat, dt):
 
 
 def mju_subQuat(res, qa, qb):
-    """Subtract quaternions, express as 3D velocity: qb*quat(res) = qa.
+    """mju_subQuat(res: numpy.typing.NDArray[numpy.float64], qa: numpy.typing.NDArray[numpy.float64], qb: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    qa: array of shape (4,).
-    qb: array of shape (4,).
-    """
+Subtract quaternions, express as 3D velocity: qb*quat(res) = qa.
+
+res: output array of shape (3,).
+qa: array of shape (4,).
+qb: array of shape (4,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     qa, c_qa = _m.array_in(qa, _m.NUM, "qa", 4)
     qb, c_qb = _m.array_in(qb, _m.NUM, "qb", 4)
@@ -3932,11 +4426,13 @@ def mju_subQuat(res, qa, qb):
 
 
 def mju_quat2Mat(res, quat):
-    """Convert quaternion to 3D rotation matrix.
+    """mju_quat2Mat(res: numpy.typing.NDArray[numpy.float64], quat: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (9,).
-    quat: array of shape (4,).
-    """
+Convert quaternion to 3D rotation matrix.
+
+res: output array of shape (9,).
+quat: array of shape (4,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 9)
     quat, c_quat = _m.array_in(quat, _m.NUM, "quat", 4)
     status = _lib.mjcffi_guard_mju_quat2Mat(c_res, c_quat)
@@ -3944,11 +4440,13 @@ def mju_quat2Mat(res, quat):
 
 
 def mju_mat2Quat(quat, mat):
-    """Convert 3D rotation matrix to quaternion.
+    """mju_mat2Quat(quat: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64]) -> None
 
-    quat: output array of shape (4,).
-    mat: array of shape (9,).
-    """
+Convert 3D rotation matrix to quaternion.
+
+quat: output array of shape (4,).
+mat: array of shape (9,).
+"""
     quat, c_quat = _m.array_out(quat, _m.NUM, "quat", 4)
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat", 9)
     status = _lib.mjcffi_guard_mju_mat2Quat(c_quat, c_mat)
@@ -3956,12 +4454,14 @@ def mju_mat2Quat(quat, mat):
 
 
 def mju_derivQuat(res, quat, vel):
-    """Compute time-derivative of quaternion, given 3D rotational velocity.
+    """mju_derivQuat(res: numpy.typing.NDArray[numpy.float64], quat: numpy.typing.NDArray[numpy.float64], vel: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (4,).
-    quat: array of shape (4,).
-    vel: array of shape (3,).
-    """
+Compute time-derivative of quaternion, given 3D rotational velocity.
+
+res: output array of shape (4,).
+quat: array of shape (4,).
+vel: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 4)
     quat, c_quat = _m.array_in(quat, _m.NUM, "quat", 4)
     vel, c_vel = _m.array_in(vel, _m.NUM, "vel", 3)
@@ -3970,11 +4470,13 @@ def mju_derivQuat(res, quat, vel):
 
 
 def mju_quatIntegrate(quat, vel, scale):
-    """Integrate quaternion given 3D angular velocity.
+    """mju_quatIntegrate(quat: numpy.typing.NDArray[numpy.float64], vel: numpy.typing.NDArray[numpy.float64], scale: float) -> None
 
-    quat: output array of shape (4,).
-    vel: array of shape (3,).
-    """
+Integrate quaternion given 3D angular velocity.
+
+quat: output array of shape (4,).
+vel: array of shape (3,).
+"""
     quat, c_quat = _m.array_out(quat, _m.NUM, "quat", 4)
     vel, c_vel = _m.array_in(vel, _m.NUM, "vel", 3)
     try:
@@ -3985,11 +4487,13 @@ def mju_quatIntegrate(quat, vel, scale):
 
 
 def mju_quatZ2Vec(quat, vec):
-    """Construct quaternion performing rotation from z-axis to given vector.
+    """mju_quatZ2Vec(quat: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    quat: output array of shape (4,).
-    vec: array of shape (3,).
-    """
+Construct quaternion performing rotation from z-axis to given vector.
+
+quat: output array of shape (4,).
+vec: array of shape (3,).
+"""
     quat, c_quat = _m.array_out(quat, _m.NUM, "quat", 4)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     status = _lib.mjcffi_guard_mju_quatZ2Vec(c_quat, c_vec)
@@ -3997,12 +4501,14 @@ def mju_quatZ2Vec(quat, vec):
 
 
 def mju_mat2Rot(quat, mat):
-    """Extract 3D rotation from an arbitrary 3x3 matrix by refining the input quaternion.
-    Return the number of iterations required to converge.
+    """mju_mat2Rot(quat: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64]) -> int
 
-    quat: output array of shape (4,).
-    mat: array of shape (9,).
-    """
+Extract 3D rotation from an arbitrary 3x3 matrix by refining the input quaternion.
+Return the number of iterations required to converge.
+
+quat: output array of shape (4,).
+mat: array of shape (9,).
+"""
     quat, c_quat = _m.array_out(quat, _m.NUM, "quat", 4)
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat", 9)
     ret = _lib.mjcffi_guard_mju_mat2Rot(c_quat, c_mat)
@@ -4011,12 +4517,14 @@ def mju_mat2Rot(quat, mat):
 
 
 def mju_euler2Quat(quat, euler, seq):
-    """Convert sequence of Euler angles (radians) to quaternion.
-    seq[0,1,2] must be in 'xyzXYZ', lower/upper-case mean intrinsic/extrinsic rotations.
+    """mju_euler2Quat(quat: numpy.typing.NDArray[numpy.float64], euler: numpy.typing.NDArray[numpy.float64], seq: str) -> None
 
-    quat: output array of shape (4,).
-    euler: array of shape (3,).
-    """
+Convert sequence of Euler angles (radians) to quaternion.
+seq[0,1,2] must be in 'xyzXYZ', lower/upper-case mean intrinsic/extrinsic rotations.
+
+quat: output array of shape (4,).
+euler: array of shape (3,).
+"""
     c_seq = _m.text(seq, "seq")
     quat, c_quat = _m.array_out(quat, _m.NUM, "quat", 4)
     euler, c_euler = _m.array_in(euler, _m.NUM, "euler", 3)
@@ -4025,15 +4533,17 @@ def mju_euler2Quat(quat, euler, seq):
 
 
 def mju_mulPose(posres, quatres, pos1, quat1, pos2, quat2):
-    """Multiply two poses.
+    """mju_mulPose(posres: numpy.typing.NDArray[numpy.float64], quatres: numpy.typing.NDArray[numpy.float64], pos1: numpy.typing.NDArray[numpy.float64], quat1: numpy.typing.NDArray[numpy.float64], pos2: numpy.typing.NDArray[numpy.float64], quat2: numpy.typing.NDArray[numpy.float64]) -> None
 
-    posres: output array of shape (3,).
-    quatres: output array of shape (4,).
-    pos1: array of shape (3,).
-    quat1: array of shape (4,).
-    pos2: array of shape (3,).
-    quat2: array of shape (4,).
-    """
+Multiply two poses.
+
+posres: output array of shape (3,).
+quatres: output array of shape (4,).
+pos1: array of shape (3,).
+quat1: array of shape (4,).
+pos2: array of shape (3,).
+quat2: array of shape (4,).
+"""
     posres, c_posres = _m.array_out(posres, _m.NUM, "posres", 3)
     quatres, c_quatres = _m.array_out(quatres, _m.NUM, "quatres", 4)
     pos1, c_pos1 = _m.array_in(pos1, _m.NUM, "pos1", 3)
@@ -4045,13 +4555,15 @@ def mju_mulPose(posres, quatres, pos1, quat1, pos2, quat2):
 
 
 def mju_negPose(posres, quatres, pos, quat):
-    """Conjugate pose, corresponding to the opposite spatial transformation.
+    """mju_negPose(posres: numpy.typing.NDArray[numpy.float64], quatres: numpy.typing.NDArray[numpy.float64], pos: numpy.typing.NDArray[numpy.float64], quat: numpy.typing.NDArray[numpy.float64]) -> None
 
-    posres: output array of shape (3,).
-    quatres: output array of shape (4,).
-    pos: array of shape (3,).
-    quat: array of shape (4,).
-    """
+Conjugate pose, corresponding to the opposite spatial transformation.
+
+posres: output array of shape (3,).
+quatres: output array of shape (4,).
+pos: array of shape (3,).
+quat: array of shape (4,).
+"""
     posres, c_posres = _m.array_out(posres, _m.NUM, "posres", 3)
     quatres, c_quatres = _m.array_out(quatres, _m.NUM, "quatres", 4)
     pos, c_pos = _m.array_in(pos, _m.NUM, "pos", 3)
@@ -4061,13 +4573,15 @@ def mju_negPose(posres, quatres, pos, quat):
 
 
 def mju_trnVecPose(res, pos, quat, vec):
-    """Transform vector by pose.
+    """mju_trnVecPose(res: numpy.typing.NDArray[numpy.float64], pos: numpy.typing.NDArray[numpy.float64], quat: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (3,).
-    pos: array of shape (3,).
-    quat: array of shape (4,).
-    vec: array of shape (3,).
-    """
+Transform vector by pose.
+
+res: output array of shape (3,).
+pos: array of shape (3,).
+quat: array of shape (4,).
+vec: array of shape (3,).
+"""
     res, c_res = _m.array_out(res, _m.NUM, "res", 3)
     pos, c_pos = _m.array_in(pos, _m.NUM, "pos", 3)
     quat, c_quat = _m.array_in(quat, _m.NUM, "quat", 4)
@@ -4077,13 +4591,15 @@ def mju_trnVecPose(res, pos, quat, vec):
 
 
 def mju_cholFactor(mat, mindiag):
-    """Cholesky decomposition: mat = L*L'; return rank, decomposition performed in-place into mat.
+    """mju_cholFactor(mat: numpy.typing.NDArray[numpy.float64], mindiag: float) -> int
 
-    mat: output array of shape (n, n).
-    """
+Cholesky decomposition: mat = L*L'; return rank, decomposition performed in-place into mat.
+
+mat: output array of shape (n, n).
+"""
     mat, c_mat = _m.array_out(mat, _m.NUM, "mat")
-    n = _m.dim(mat, 2, 0, 1, "mat")
-    _m.shape(mat, (n, n), "mat")
+    n = _m.dim(mat, 2, 0, 1, "mat", 'mat should be a square matrix')
+    _m.shape(mat, (n, n), "mat", 'mat should be a square matrix')
     try:
         ret = _lib.mjcffi_guard_mju_cholFactor(c_mat, n, mindiag)
     except (TypeError, OverflowError) as exc:
@@ -4094,17 +4610,19 @@ def mju_cholFactor(mat, mindiag):
 
 
 def mju_cholSolve(res, mat, vec):
-    """Solve (mat*mat') * res = vec, where mat is a Cholesky factor.
+    """mju_cholSolve(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n,).
-    mat: array of shape (n, n).
-    vec: array of shape (n,).
-    """
-    vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
-    n = _m.dim(vec, 1, 0, 1, "vec")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
-    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", (n, n))
-    _m.shape(vec, n, "vec")
+Solve (mat*mat') * res = vec, where mat is a Cholesky factor.
+
+res: output array of shape (n,).
+mat: array of shape (n, n).
+vec: array of shape (n,).
+"""
+    mat, c_mat = _m.array_in(mat, _m.NUM, "mat")
+    n = _m.dim(mat, 2, 0, 1, "mat", 'mat should be a square matrix')
+    _m.shape(mat, (n, n), "mat", 'mat should be a square matrix')
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'size of res should equal the number of rows in mat')
+    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", n, 'size of vec should equal the number of rows in mat')
     try:
         status = _lib.mjcffi_guard_mju_cholSolve(c_res, c_mat, c_vec, n)
     except (TypeError, OverflowError) as exc:
@@ -4113,15 +4631,17 @@ def mju_cholSolve(res, mat, vec):
 
 
 def mju_cholUpdate(mat, x, flg_plus):
-    """Cholesky rank-one update: L*L' +/- x*x'; return rank.
+    """mju_cholUpdate(mat: numpy.typing.NDArray[numpy.float64], x: numpy.typing.NDArray[numpy.float64], flg_plus: int) -> int
 
-    mat: output array of shape (n, n).
-    x: output array of shape (n,).
-    """
-    x, c_x = _m.array_out(x, _m.NUM, "x")
-    n = _m.dim(x, 1, 0, 1, "x")
-    mat, c_mat = _m.array_out(mat, _m.NUM, "mat", (n, n))
-    _m.shape(x, n, "x")
+Cholesky rank-one update: L*L' +/- x*x'; return rank.
+
+mat: output array of shape (n, n).
+x: output array of shape (n,).
+"""
+    mat, c_mat = _m.array_out(mat, _m.NUM, "mat")
+    n = _m.dim(mat, 2, 0, 1, "mat", 'mat should be a square matrix')
+    _m.shape(mat, (n, n), "mat", 'mat should be a square matrix')
+    x, c_x = _m.array_out(x, _m.NUM, "x", n, 'size of x should equal the number of rows in mat')
     try:
         ret = _lib.mjcffi_guard_mju_cholUpdate(c_mat, c_x, n, flg_plus)
     except (TypeError, OverflowError) as exc:
@@ -4132,16 +4652,18 @@ def mju_cholUpdate(mat, x, flg_plus):
 
 
 def mju_cholFactorBand(mat, ntotal, nband, ndense, diagadd, diagmul):
-    """Band-dense Cholesky decomposition.
-     Return minimum value in the factorized diagonal, or 0 if rank-deficient.
-     mat has (ntotal-ndense) x nband + ndense x ntotal elements.
-     The first (ntotal-ndense) x nband store the band part, left of diagonal, inclusive.
-     The second ndense x ntotal store the band part as entire dense rows.
-     Add diagadd+diagmul*mat_ii to diagonal before factorization.
+    """mju_cholFactorBand(mat: numpy.typing.NDArray[numpy.float64], ntotal: int, nband: int, ndense: int, diagadd: float, diagmul: float) -> float
 
-    mat: output array of shape (band_size(ntotal, nband, ndense),).
-    """
-    mat, c_mat = _m.array_out(mat, _m.NUM, "mat", _m.band_size(ntotal, nband, ndense))
+Band-dense Cholesky decomposition.
+ Return minimum value in the factorized diagonal, or 0 if rank-deficient.
+ mat has (ntotal-ndense) x nband + ndense x ntotal elements.
+ The first (ntotal-ndense) x nband store the band part, left of diagonal, inclusive.
+ The second ndense x ntotal store the band part as entire dense rows.
+ Add diagadd+diagmul*mat_ii to diagonal before factorization.
+
+mat: output array of shape (band_size(ntotal, nband, ndense),).
+"""
+    mat, c_mat = _m.array_out(mat, _m.NUM, "mat", _m.band_size(ntotal, nband, ndense), 'mat must have size (ntotal-ndense)*nband + ndense*ntotal')
     try:
         ret = _lib.mjcffi_guard_mju_cholFactorBand(c_mat, ntotal, nband, ndense, diagadd, diagmul)
     except (TypeError, OverflowError) as exc:
@@ -4153,16 +4675,18 @@ def mju_cholFactorBand(mat, ntotal, nband, ndense, diagadd, diagmul):
 
 
 def mju_cholSolveBand(res, mat, vec, ntotal, nband, ndense):
-    """Solve (mat*mat')*res = vec where mat is a band-dense Cholesky factor.
+    """mju_cholSolveBand(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], ntotal: int, nband: int, ndense: int) -> None
 
-    res: output array of shape (ntotal,).
-    mat: array of shape (band_size(ntotal, nband, ndense),).
-    vec: array of shape (ntotal,).
-    """
+Solve (mat*mat')*res = vec where mat is a band-dense Cholesky factor.
+
+res: output array of shape (ntotal,).
+mat: array of shape (band_size(ntotal, nband, ndense),).
+vec: array of shape (ntotal,).
+"""
     ntotal = _m.count(ntotal, "ntotal")
-    res, c_res = _m.array_out(res, _m.NUM, "res", ntotal)
-    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", _m.band_size(ntotal, nband, ndense))
-    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", ntotal)
+    res, c_res = _m.array_out(res, _m.NUM, "res", ntotal, 'size of res should equal ntotal')
+    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", _m.band_size(ntotal, nband, ndense), 'mat must have (ntotal-ndense)*nband + ndense*ntotal elements')
+    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", ntotal, 'size of vec should equal ntotal')
     try:
         status = _lib.mjcffi_guard_mju_cholSolveBand(c_res, c_mat, c_vec, ntotal, nband, ndense)
     except (TypeError, OverflowError) as exc:
@@ -4172,14 +4696,16 @@ def mju_cholSolveBand(res, mat, vec, ntotal, nband, ndense):
 
 
 def mju_band2Dense(res, mat, ntotal, nband, ndense, flg_sym):
-    """Convert banded matrix to dense matrix, fill upper triangle if flg_sym>0.
+    """mju_band2Dense(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], ntotal: int, nband: int, ndense: int, flg_sym: int) -> None
 
-    res: output array of shape (ntotal, ntotal).
-    mat: array of shape (band_size(ntotal, nband, ndense),).
-    """
+Convert banded matrix to dense matrix, fill upper triangle if flg_sym>0.
+
+res: output array of shape (ntotal, ntotal).
+mat: array of shape (band_size(ntotal, nband, ndense),).
+"""
     ntotal = _m.count(ntotal, "ntotal")
-    res, c_res = _m.array_out(res, _m.NUM, "res", (ntotal, ntotal))
-    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", _m.band_size(ntotal, nband, ndense))
+    res, c_res = _m.array_out(res, _m.NUM, "res", (ntotal, ntotal), ((0, 'res should have ntotal rows'), (1, 'res should have ntotal columns')))
+    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", _m.band_size(ntotal, nband, ndense), 'mat must have size (ntotal-ndense)*nband + ndense*ntotal')
     try:
         status = _lib.mjcffi_guard_mju_band2Dense(c_res, c_mat, ntotal, nband, ndense, flg_sym)
     except (TypeError, OverflowError) as exc:
@@ -4190,14 +4716,16 @@ def mju_band2Dense(res, mat, ntotal, nband, ndense, flg_sym):
 
 
 def mju_dense2Band(res, mat, ntotal, nband, ndense):
-    """Convert dense matrix to banded matrix.
+    """mju_dense2Band(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], ntotal: int, nband: int, ndense: int) -> None
 
-    res: output array of shape (band_size(ntotal, nband, ndense),).
-    mat: array of shape (ntotal, ntotal).
-    """
+Convert dense matrix to banded matrix.
+
+res: output array of shape (band_size(ntotal, nband, ndense),).
+mat: array of shape (ntotal, ntotal).
+"""
     ntotal = _m.count(ntotal, "ntotal")
-    res, c_res = _m.array_out(res, _m.NUM, "res", _m.band_size(ntotal, nband, ndense))
-    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", (ntotal, ntotal))
+    res, c_res = _m.array_out(res, _m.NUM, "res", _m.band_size(ntotal, nband, ndense), 'res must have size (ntotal-ndense)*nband + ndense*ntotal')
+    mat, c_mat = _m.array_in(mat, _m.NUM, "mat", (ntotal, ntotal), ((0, 'mat should have ntotal rows'), (1, 'mat should have ntotal columns')))
     try:
         status = _lib.mjcffi_guard_mju_dense2Band(c_res, c_mat, ntotal, nband, ndense)
     except (TypeError, OverflowError) as exc:
@@ -4207,17 +4735,21 @@ def mju_dense2Band(res, mat, ntotal, nband, ndense):
 
 
 def mju_bandMulMatVec(res, mat, vec, ntotal, nband, ndense, nvec, flg_sym):
-    """Multiply band-diagonal matrix with nvec vectors, include upper triangle if flg_sym>0.
+    """mju_bandMulMatVec(res: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64], ntotal: int, nband: int, ndense: int, nvec: int, flg_sym: int) -> None
 
-    res: output array of shape (nvec, ntotal).
-    mat: array of shape (band_size(ntotal, nband, ndense),).
-    vec: array of shape (nvec, ntotal).
-    """
+Multiply band-diagonal matrix with nvec vectors, include upper triangle if flg_sym>0.
+
+res: output array of the size of (nvec, ntotal).
+mat: array of shape (band_size(ntotal, nband, ndense),).
+vec: array of the size of (nvec, ntotal).
+"""
     ntotal = _m.count(ntotal, "ntotal")
     nvec = _m.count(nvec, "nvec")
-    res, c_res = _m.array_out(res, _m.NUM, "res", (nvec, ntotal))
+    res, c_res = _m.array_out(res, _m.NUM, "res")
+    _m.size(res, (nvec) * (ntotal), "res")
     mat, c_mat = _m.array_in(mat, _m.NUM, "mat", _m.band_size(ntotal, nband, ndense))
-    vec, c_vec = _m.array_in(vec, _m.NUM, "vec", (nvec, ntotal))
+    vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
+    _m.size(vec, (nvec) * (ntotal), "vec")
     try:
         status = _lib.mjcffi_guard_mju_bandMulMatVec(
             c_res, c_mat, c_vec, ntotal, nband, ndense, nvec, flg_sym)
@@ -4229,7 +4761,10 @@ def mju_bandMulMatVec(res, mat, vec, ntotal, nband, ndense, nvec, flg_sym):
 
 
 def mju_bandDiag(i, ntotal, nband, ndense):
-    """Address of diagonal element i in band-dense matrix representation."""
+    """mju_bandDiag(i: int, ntotal: int, nband: int, ndense: int) -> int
+
+Address of diagonal element i in band-dense matrix representation.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_bandDiag(i, ntotal, nband, ndense)
     except (TypeError, OverflowError) as exc:
@@ -4241,13 +4776,15 @@ def mju_bandDiag(i, ntotal, nband, ndense):
 
 
 def mju_eig3(eigval, eigvec, quat, mat):
-    """Eigenvalue decomposition of symmetric 3x3 matrix, mat = eigvec * diag(eigval) * eigvec'.
+    """mju_eig3(eigval: numpy.typing.NDArray[numpy.float64], eigvec: numpy.typing.NDArray[numpy.float64], quat: numpy.typing.NDArray[numpy.float64], mat: numpy.typing.NDArray[numpy.float64]) -> int
 
-    eigval: output array of shape (3,).
-    eigvec: output array of shape (9,).
-    quat: output array of shape (4,).
-    mat: array of shape (9,).
-    """
+Eigenvalue decomposition of symmetric 3x3 matrix, mat = eigvec * diag(eigval) * eigvec'.
+
+eigval: output array of shape (3,).
+eigvec: output array of shape (9,).
+quat: output array of shape (4,).
+mat: array of shape (9,).
+"""
     eigval, c_eigval = _m.array_out(eigval, _m.NUM, "eigval", 3)
     eigvec, c_eigvec = _m.array_out(eigvec, _m.NUM, "eigvec", 9)
     quat, c_quat = _m.array_out(quat, _m.NUM, "quat", 4)
@@ -4258,40 +4795,43 @@ def mju_eig3(eigval, eigvec, quat, mat):
 
 
 def mju_boxQP(res, R, index, H, g, lower=None, upper=None):
-    """minimize 0.5*x'*H*x + x'*g  s.t. lower <= x <= upper; return rank or -1 if failed
-      inputs:
-        n           - problem dimension
-        H           - SPD matrix                n*n
-        g           - bias vector               n
-        lower       - lower bounds              n
-        upper       - upper bounds              n
-        res         - solution warmstart        n
-      return value:
-        nfree <= n  - rank of unconstrained subspace, -1 if failure
-      outputs (required):
-        res         - solution                  n
-        R           - subspace Cholesky factor  nfree*nfree    allocated: n*(n+7)
-      outputs (optional):
-        index       - set of free dimensions    nfree          allocated: n
-      notes:
-        the initial value of res is used to warmstart the solver
-        R must have allocatd size n*(n+7), but only nfree*nfree values are used in output
-        index (if given) must have allocated size n, but only nfree values are used in output
-        only the lower triangles of H and R and are read from and written to, respectively
-        the convenience function mju_boxQPmalloc allocates the required data structures
+    """mju_boxQP(res: numpy.typing.NDArray[numpy.float64], R: numpy.typing.NDArray[numpy.float64], index: numpy.typing.NDArray[numpy.int32] | None, H: numpy.typing.NDArray[numpy.float64], g: numpy.typing.NDArray[numpy.float64], lower: numpy.typing.NDArray[numpy.float64] | None = None, upper: numpy.typing.NDArray[numpy.float64] | None = None) -> int
 
-    res: output array of shape (n,).
-    R: output array of shape (n*(n+7),).
-    index: output array of shape (n,) or None.
-    H: array of shape (n, n).
-    g: array of shape (n,).
-    lower: array of shape (n,) or None.
-    upper: array of shape (n,) or None.
-    """
+minimize 0.5*x'*H*x + x'*g  s.t. lower <= x <= upper; return rank or -1 if failed
+  inputs:
+    n           - problem dimension
+    H           - SPD matrix                n*n
+    g           - bias vector               n
+    lower       - lower bounds              n
+    upper       - upper bounds              n
+    res         - solution warmstart        n
+  return value:
+    nfree <= n  - rank of unconstrained subspace, -1 if failure
+  outputs (required):
+    res         - solution                  n
+    R           - subspace Cholesky factor  nfree*nfree    allocated: n*(n+7)
+  outputs (optional):
+    index       - set of free dimensions    nfree          allocated: n
+  notes:
+    the initial value of res is used to warmstart the solver
+    R must have allocatd size n*(n+7), but only nfree*nfree values are used in output
+    index (if given) must have allocated size n, but only nfree values are used in output
+    only the lower triangles of H and R and are read from and written to, respectively
+    the convenience function mju_boxQPmalloc allocates the required data structures
+
+res: output array of shape (n,).
+R: output array of the size of (n*(n+7),).
+index: output array of shape (n,) or None.
+H: array of shape (n, n).
+g: array of shape (n,).
+lower: array of shape (n,) or None.
+upper: array of shape (n,) or None.
+"""
     g, c_g = _m.array_in(g, _m.NUM, "g")
     n = _m.dim(g, 1, 0, 1, "g")
+    R, c_R = _m.array_out(R, _m.NUM, "R")
+    _m.size(R, (n*(n+7)), "R", 'size of R should be n*(n+7)')
     res, c_res = _m.array_out(res, _m.NUM, "res", n)
-    R, c_R = _m.array_out(R, _m.NUM, "R", n*(n+7))
     index, c_index = _m.opt_out(index, _m.INT, "index", n)
     H, c_H = _m.array_in(H, _m.NUM, "H", (n, n))
     _m.shape(g, n, "g")
@@ -4306,23 +4846,27 @@ def mju_boxQP(res, R, index, H, g, lower=None, upper=None):
 
 
 def mju_boxQPmalloc(res, R, index, H, g, n, lower, upper):
-    """allocate heap memory for box-constrained Quadratic Program
-      as in mju_boxQP, index, lower, and upper are optional
-      free all pointers with mju_free()
+    """mju_boxQPmalloc(res: Any, R: Any, index: Any, H: Any, g: Any, n: int, lower: Any, upper: Any) -> None
 
-    Not available in mjcffi: it allocates raw C arrays (mjtNum **).
-    The raw C function is mjcffi.lib.mju_boxQPmalloc.
-    """
+allocate heap memory for box-constrained Quadratic Program
+  as in mju_boxQP, index, lower, and upper are optional
+  free all pointers with mju_free()
+
+Not available in mjcffi: it allocates raw C arrays (mjtNum **).
+The raw C function is mjcffi.lib.mju_boxQPmalloc.
+"""
     raise NotImplementedError(
         'mju_boxQPmalloc: it allocates raw C arrays (mjtNum **)')
 
 
 def mju_muscleGain(len, vel, lengthrange, acc0, prm):
-    """Muscle active force, prm = (range[2], force, scale, lmin, lmax, vmax, fpmax, fvmax).
+    """mju_muscleGain(len: float, vel: float, lengthrange: numpy.typing.NDArray[numpy.float64], acc0: float, prm: numpy.typing.NDArray[numpy.float64]) -> float
 
-    lengthrange: array of shape (2,).
-    prm: array of shape (9,).
-    """
+Muscle active force, prm = (range[2], force, scale, lmin, lmax, vmax, fpmax, fvmax).
+
+lengthrange: array of shape (2,).
+prm: array of shape (9,).
+"""
     lengthrange, c_lengthrange = _m.array_in(lengthrange, _m.NUM, "lengthrange", 2)
     prm, c_prm = _m.array_in(prm, _m.NUM, "prm", 9)
     try:
@@ -4335,11 +4879,13 @@ def mju_muscleGain(len, vel, lengthrange, acc0, prm):
 
 
 def mju_muscleBias(len, lengthrange, acc0, prm):
-    """Muscle passive force, prm = (range[2], force, scale, lmin, lmax, vmax, fpmax, fvmax).
+    """mju_muscleBias(len: float, lengthrange: numpy.typing.NDArray[numpy.float64], acc0: float, prm: numpy.typing.NDArray[numpy.float64]) -> float
 
-    lengthrange: array of shape (2,).
-    prm: array of shape (9,).
-    """
+Muscle passive force, prm = (range[2], force, scale, lmin, lmax, vmax, fpmax, fvmax).
+
+lengthrange: array of shape (2,).
+prm: array of shape (9,).
+"""
     lengthrange, c_lengthrange = _m.array_in(lengthrange, _m.NUM, "lengthrange", 2)
     prm, c_prm = _m.array_in(prm, _m.NUM, "prm", 9)
     try:
@@ -4352,10 +4898,12 @@ def mju_muscleBias(len, lengthrange, acc0, prm):
 
 
 def mju_muscleDynamics(ctrl, act, prm):
-    """Muscle activation dynamics, prm = (tau_act, tau_deact, smoothing_width).
+    """mju_muscleDynamics(ctrl: float, act: float, prm: numpy.typing.NDArray[numpy.float64]) -> float
 
-    prm: array of shape (3,).
-    """
+Muscle activation dynamics, prm = (tau_act, tau_deact, smoothing_width).
+
+prm: array of shape (3,).
+"""
     prm, c_prm = _m.array_in(prm, _m.NUM, "prm", 3)
     try:
         ret = _lib.mjcffi_guard_mju_muscleDynamics(ctrl, act, c_prm)
@@ -4367,17 +4915,19 @@ def mju_muscleDynamics(ctrl, act, prm):
 
 
 def mju_encodePyramid(pyramid, force, mu):
-    """Convert contact force to pyramid representation.
+    """mju_encodePyramid(pyramid: numpy.typing.NDArray[numpy.float64], force: numpy.typing.NDArray[numpy.float64], mu: numpy.typing.NDArray[numpy.float64]) -> None
 
-    pyramid: output array of shape (2*dim,).
-    force: array of shape (dim+1,).
-    mu: array of shape (dim,).
-    """
+Convert contact force to pyramid representation.
+
+pyramid: output array of shape (2*dim,).
+force: array of shape (dim+1,).
+mu: array of shape (dim,).
+"""
     mu, c_mu = _m.array_in(mu, _m.NUM, "mu")
-    dim = _m.dim(mu, 1, 0, 1, "mu")
-    pyramid, c_pyramid = _m.array_out(pyramid, _m.NUM, "pyramid", 2*dim)
-    force, c_force = _m.array_in(force, _m.NUM, "force", dim+1)
-    _m.shape(mu, dim, "mu")
+    dim = _m.dim(mu, 1, 0, 1, "mu", 'size of pyramid should be twice as large as size of mu')
+    _m.shape(mu, dim, "mu", 'size of pyramid should be twice as large as size of mu')
+    pyramid, c_pyramid = _m.array_out(pyramid, _m.NUM, "pyramid", 2*dim, 'size of pyramid should be twice as large as size of mu')
+    force, c_force = _m.array_in(force, _m.NUM, "force", dim+1, 'size of force should be exactly one larger than size of mu')
     try:
         status = _lib.mjcffi_guard_mju_encodePyramid(c_pyramid, c_force, c_mu, dim)
     except (TypeError, OverflowError) as exc:
@@ -4386,17 +4936,19 @@ def mju_encodePyramid(pyramid, force, mu):
 
 
 def mju_decodePyramid(force, pyramid, mu):
-    """Convert pyramid representation to contact force.
+    """mju_decodePyramid(force: numpy.typing.NDArray[numpy.float64], pyramid: numpy.typing.NDArray[numpy.float64], mu: numpy.typing.NDArray[numpy.float64]) -> None
 
-    force: output array of shape (dim+1,).
-    pyramid: array of shape (2*dim,).
-    mu: array of shape (dim,).
-    """
+Convert pyramid representation to contact force.
+
+force: output array of shape (dim+1,).
+pyramid: array of shape (2*dim,).
+mu: array of shape (dim,).
+"""
     pyramid, c_pyramid = _m.array_in(pyramid, _m.NUM, "pyramid")
-    dim = _m.dim(pyramid, 1, 0, 2, "pyramid")
-    force, c_force = _m.array_out(force, _m.NUM, "force", dim+1)
-    _m.shape(pyramid, 2*dim, "pyramid")
-    mu, c_mu = _m.array_in(mu, _m.NUM, "mu", dim)
+    dim = _m.dim(pyramid, 1, 0, 2, "pyramid", 'size of pyramid should be twice as large as size of mu')
+    mu, c_mu = _m.array_in(mu, _m.NUM, "mu", dim, 'size of pyramid should be twice as large as size of mu')
+    _m.shape(pyramid, 2*dim, "pyramid", 'size of pyramid should be twice as large as size of mu')
+    force, c_force = _m.array_out(force, _m.NUM, "force", dim+1, 'size of force should be exactly one larger than size of mu')
     try:
         status = _lib.mjcffi_guard_mju_decodePyramid(c_force, c_pyramid, c_mu, dim)
     except (TypeError, OverflowError) as exc:
@@ -4405,7 +4957,10 @@ def mju_decodePyramid(force, pyramid, mu):
 
 
 def mju_springDamper(pos0, vel0, Kp, Kv, dt):
-    """Integrate spring-damper analytically; return pos(dt)."""
+    """mju_springDamper(pos0: float, vel0: float, Kp: float, Kv: float, dt: float) -> float
+
+Integrate spring-damper analytically; return pos(dt).
+"""
     try:
         ret = _lib.mjcffi_guard_mju_springDamper(pos0, vel0, Kp, Kv, dt)
     except (TypeError, OverflowError) as exc:
@@ -4417,7 +4972,10 @@ def mju_springDamper(pos0, vel0, Kp, Kv, dt):
 
 
 def mju_min(a, b):
-    """Return min(a,b) with single evaluation of a and b."""
+    """mju_min(a: float, b: float) -> float
+
+Return min(a,b) with single evaluation of a and b.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_min(a, b)
     except (TypeError, OverflowError) as exc:
@@ -4427,7 +4985,10 @@ def mju_min(a, b):
 
 
 def mju_max(a, b):
-    """Return max(a,b) with single evaluation of a and b."""
+    """mju_max(a: float, b: float) -> float
+
+Return max(a,b) with single evaluation of a and b.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_max(a, b)
     except (TypeError, OverflowError) as exc:
@@ -4437,7 +4998,10 @@ def mju_max(a, b):
 
 
 def mju_clip(x, min, max):
-    """Clip x to the range [min, max]."""
+    """mju_clip(x: float, min: float, max: float) -> float
+
+Clip x to the range [min, max].
+"""
     try:
         ret = _lib.mjcffi_guard_mju_clip(x, min, max)
     except (TypeError, OverflowError) as exc:
@@ -4448,7 +5012,10 @@ def mju_clip(x, min, max):
 
 
 def mju_sign(x):
-    """Return sign of x: +1, -1 or 0."""
+    """mju_sign(x: float) -> float
+
+Return sign of x: +1, -1 or 0.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_sign(x)
     except (TypeError, OverflowError) as exc:
@@ -4458,7 +5025,10 @@ def mju_sign(x):
 
 
 def mju_round(x):
-    """Round x to nearest integer."""
+    """mju_round(x: float) -> int
+
+Round x to nearest integer.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_round(x)
     except (TypeError, OverflowError) as exc:
@@ -4468,7 +5038,10 @@ def mju_round(x):
 
 
 def mju_type2Str(type):
-    """Convert type id (mjtObj) to type name."""
+    """mju_type2Str(type: int) -> str
+
+Convert type id (mjtObj) to type name.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_type2Str(type)
     except (TypeError, OverflowError) as exc:
@@ -4478,7 +5051,10 @@ def mju_type2Str(type):
 
 
 def mju_str2Type(str):
-    """Convert type name to type id (mjtObj)."""
+    """mju_str2Type(str: str) -> int
+
+Convert type name to type id (mjtObj).
+"""
     c_str = _m.text(str, "str")
     ret = _lib.mjcffi_guard_mju_str2Type(c_str)
     _m.check_error()
@@ -4486,7 +5062,10 @@ def mju_str2Type(str):
 
 
 def mju_writeNumBytes(nbytes):
-    """Return human readable number of bytes using standard letter suffix."""
+    """mju_writeNumBytes(nbytes: int) -> str
+
+Return human readable number of bytes using standard letter suffix.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_writeNumBytes(nbytes)
     except (TypeError, OverflowError) as exc:
@@ -4496,7 +5075,10 @@ def mju_writeNumBytes(nbytes):
 
 
 def mju_warningText(warning, info):
-    """Construct a warning message given the warning type and info."""
+    """mju_warningText(warning: int, info: int) -> str
+
+Construct a warning message given the warning type and info.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_warningText(warning, info)
     except (TypeError, OverflowError) as exc:
@@ -4507,7 +5089,10 @@ def mju_warningText(warning, info):
 
 
 def mju_isBad(x):
-    """Return 1 if nan or abs(x)>mjMAXVAL, 0 otherwise. Used by check functions."""
+    """mju_isBad(x: float) -> int
+
+Return 1 if nan or abs(x)>mjMAXVAL, 0 otherwise. Used by check functions.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_isBad(x)
     except (TypeError, OverflowError) as exc:
@@ -4517,10 +5102,12 @@ def mju_isBad(x):
 
 
 def mju_isZero(vec):
-    """Return 1 if all elements are 0.
+    """mju_isZero(vec: numpy.typing.NDArray[numpy.float64]) -> int
 
-    vec: array of shape (n,).
-    """
+Return 1 if all elements are 0.
+
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
     n = _m.dim(vec, 1, 0, 1, "vec")
     _m.shape(vec, n, "vec")
@@ -4533,10 +5120,12 @@ def mju_isZero(vec):
 
 
 def mju_standardNormal(num2=None):
-    """Standard normal random number generator (optional second number).
+    """mju_standardNormal(num2: numpy.typing.NDArray[numpy.float64] | None = None) -> float
 
-    num2: output array of shape (1,) or None.
-    """
+Standard normal random number generator (optional second number).
+
+num2: output array of shape (1,) or None.
+"""
     num2, c_num2 = _m.opt_out(num2, _m.NUM, "num2", 1)
     ret = _lib.mjcffi_guard_mju_standardNormal(c_num2)
     _m.check_error()
@@ -4544,15 +5133,17 @@ def mju_standardNormal(num2=None):
 
 
 def mju_f2n(res, vec):
-    """Convert from float to mjtNum.
+    """mju_f2n(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float32]) -> None
 
-    res: output array of shape (n,).
-    vec: array of shape (n,).
-    """
+Convert from float to mjtNum.
+
+res: output array of shape (n,).
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.FLOAT, "vec")
-    n = _m.dim(vec, 1, 0, 1, "vec")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
-    _m.shape(vec, n, "vec")
+    n = _m.dim(vec, 1, 0, 1, "vec", 'res and vec should have the same size')
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and vec should have the same size')
+    _m.shape(vec, n, "vec", 'res and vec should have the same size')
     try:
         status = _lib.mjcffi_guard_mju_f2n(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
@@ -4561,15 +5152,17 @@ def mju_f2n(res, vec):
 
 
 def mju_n2f(res, vec):
-    """Convert from mjtNum to float.
+    """mju_n2f(res: numpy.typing.NDArray[numpy.float32], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n,).
-    vec: array of shape (n,).
-    """
+Convert from mjtNum to float.
+
+res: output array of shape (n,).
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
-    n = _m.dim(vec, 1, 0, 1, "vec")
-    res, c_res = _m.array_out(res, _m.FLOAT, "res", n)
-    _m.shape(vec, n, "vec")
+    n = _m.dim(vec, 1, 0, 1, "vec", 'res and vec should have the same size')
+    res, c_res = _m.array_out(res, _m.FLOAT, "res", n, 'res and vec should have the same size')
+    _m.shape(vec, n, "vec", 'res and vec should have the same size')
     try:
         status = _lib.mjcffi_guard_mju_n2f(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
@@ -4578,15 +5171,17 @@ def mju_n2f(res, vec):
 
 
 def mju_d2n(res, vec):
-    """Convert from double to mjtNum.
+    """mju_d2n(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n,).
-    vec: array of shape (n,).
-    """
+Convert from double to mjtNum.
+
+res: output array of shape (n,).
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
-    n = _m.dim(vec, 1, 0, 1, "vec")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
-    _m.shape(vec, n, "vec")
+    n = _m.dim(vec, 1, 0, 1, "vec", 'res and vec should have the same size')
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and vec should have the same size')
+    _m.shape(vec, n, "vec", 'res and vec should have the same size')
     try:
         status = _lib.mjcffi_guard_mju_d2n(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
@@ -4595,15 +5190,17 @@ def mju_d2n(res, vec):
 
 
 def mju_n2d(res, vec):
-    """Convert from mjtNum to double.
+    """mju_n2d(res: numpy.typing.NDArray[numpy.float64], vec: numpy.typing.NDArray[numpy.float64]) -> None
 
-    res: output array of shape (n,).
-    vec: array of shape (n,).
-    """
+Convert from mjtNum to double.
+
+res: output array of shape (n,).
+vec: array of shape (n,).
+"""
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
-    n = _m.dim(vec, 1, 0, 1, "vec")
-    res, c_res = _m.array_out(res, _m.NUM, "res", n)
-    _m.shape(vec, n, "vec")
+    n = _m.dim(vec, 1, 0, 1, "vec", 'res and vec should have the same size')
+    res, c_res = _m.array_out(res, _m.NUM, "res", n, 'res and vec should have the same size')
+    _m.shape(vec, n, "vec", 'res and vec should have the same size')
     try:
         status = _lib.mjcffi_guard_mju_n2d(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
@@ -4612,10 +5209,12 @@ def mju_n2d(res, vec):
 
 
 def mju_insertionSort(list):
-    """Insertion sort, resulting list is in increasing order.
+    """mju_insertionSort(list: numpy.typing.NDArray[numpy.float64]) -> None
 
-    list: output array of shape (n,).
-    """
+Insertion sort, resulting list is in increasing order.
+
+list: output array of shape (n,).
+"""
     list, c_list = _m.array_out(list, _m.NUM, "list")
     n = _m.dim(list, 1, 0, 1, "list")
     _m.shape(list, n, "list")
@@ -4627,10 +5226,12 @@ def mju_insertionSort(list):
 
 
 def mju_insertionSortInt(list):
-    """Integer insertion sort, resulting list is in increasing order.
+    """mju_insertionSortInt(list: numpy.typing.NDArray[numpy.int32]) -> None
 
-    list: output array of shape (n,).
-    """
+Integer insertion sort, resulting list is in increasing order.
+
+list: output array of shape (n,).
+"""
     list, c_list = _m.array_out(list, _m.INT, "list")
     n = _m.dim(list, 1, 0, 1, "list")
     _m.shape(list, n, "list")
@@ -4642,7 +5243,10 @@ def mju_insertionSortInt(list):
 
 
 def mju_Halton(index, base):
-    """Generate Halton sequence."""
+    """mju_Halton(index: int, base: int) -> float
+
+Generate Halton sequence.
+"""
     _m.index(base, 2 ** 31, 'base', 2)
     try:
         ret = _lib.mjcffi_guard_mju_Halton(index, base)
@@ -4654,7 +5258,10 @@ def mju_Halton(index, base):
 
 
 def mju_strncpy(dst, src):
-    """Call strncpy, then set dst[n-1] = 0."""
+    """mju_strncpy(dst: bytearray, src: str) -> str
+
+Call strncpy, then set dst[n-1] = 0.
+"""
     c_src = _m.text(src, "src")
     c_dst, nbytes_dst = _m.buffer_out(dst, "dst")
     n = nbytes_dst
@@ -4668,7 +5275,10 @@ def mju_strncpy(dst, src):
 
 
 def mju_sigmoid(x):
-    """Sigmoid function over 0<=x<=1 using quintic polynomial."""
+    """mju_sigmoid(x: float) -> float
+
+Sigmoid function over 0<=x<=1 using quintic polynomial.
+"""
     try:
         ret = _lib.mjcffi_guard_mju_sigmoid(x)
     except (TypeError, OverflowError) as exc:
@@ -4678,7 +5288,10 @@ def mju_sigmoid(x):
 
 
 def mjc_getSDF(m, id):
-    """get sdf from geom id"""
+    """mjc_getSDF(m: mujoco._structs.MjModel, id: int) -> mujoco._structs.MjpPlugin
+
+get sdf from geom id
+"""
     c_m = _m.struct(m, "mjModel", "m")
     try:
         ret = _lib.mjcffi_guard_mjc_getSDF(c_m, id)
@@ -4689,41 +5302,46 @@ def mjc_getSDF(m, id):
 
 
 def mjc_distance(m, d, s, x):
-    """signed distance function
+    """mjc_distance(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, s: mujoco._structs.MjSDF, x: numpy.typing.NDArray[numpy.float64]) -> None
 
-    Not available in mjcffi: it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers.
-    The raw C function is mjcffi.lib.mjc_distance.
-    """
+signed distance function
+
+Not available in mjcffi: it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers.
+The raw C function is mjcffi.lib.mjc_distance.
+"""
     raise NotImplementedError(
         "mjc_distance: it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers")
 
 
 def mjc_gradient(m, d, s, gradient, x):
-    """gradient of sdf
+    """mjc_gradient(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, s: mujoco._structs.MjSDF, gradient: numpy.typing.NDArray[numpy.float64], x: numpy.typing.NDArray[numpy.float64]) -> None
 
-    Not available in mjcffi: it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers.
-    The raw C function is mjcffi.lib.mjc_gradient.
-    """
+gradient of sdf
+
+Not available in mjcffi: it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers.
+The raw C function is mjcffi.lib.mjc_gradient.
+"""
     raise NotImplementedError(
         "mjc_gradient: it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers")
 
 
 def mjd_transitionFD(m, d, eps, flg_centered, A=None, B=None, C=None, D=None):
-    """Finite differenced transition matrices (control theory notation)
-      d(x_next) = A*dx + B*du
-      d(sensor) = C*dx + D*du
-      required output matrix dimensions:
-         A: (2*nv+na x 2*nv+na)
-         B: (2*nv+na x nu)
-         D: (nsensordata x 2*nv+na)
-         C: (nsensordata x nu)
+    """mjd_transitionFD(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, eps: float, flg_centered: int, A: numpy.typing.NDArray[numpy.float64] | None = None, B: numpy.typing.NDArray[numpy.float64] | None = None, C: numpy.typing.NDArray[numpy.float64] | None = None, D: numpy.typing.NDArray[numpy.float64] | None = None) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    A: output array of shape (2*nv+na, 2*nv+na) or None.
-    B: output array of shape (2*nv+na, nu) or None.
-    C: output array of shape (nsensordata, 2*nv+na) or None.
-    D: output array of shape (nsensordata, nu) or None.
-    """
+Finite differenced transition matrices (control theory notation)
+  d(x_next) = A*dx + B*du
+  d(sensor) = C*dx + D*du
+  required output matrix dimensions:
+     A: (2*nv+na x 2*nv+na)
+     B: (2*nv+na x nu)
+     D: (nsensordata x 2*nv+na)
+     C: (nsensordata x nu)
+
+A: output array of shape (2*nv+na, 2*nv+na) or None.
+B: output array of shape (2*nv+na, nu) or None.
+C: output array of shape (nsensordata, 2*nv+na) or None.
+D: output array of shape (nsensordata, nu) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     A, c_A = _m.opt_out(A, _m.NUM, "A", (2*c_m.nv+c_m.na, 2*c_m.nv+c_m.na))
     B, c_B = _m.opt_out(B, _m.NUM, "B", (2*c_m.nv+c_m.na, c_m.nu))
@@ -4738,39 +5356,40 @@ def mjd_transitionFD(m, d, eps, flg_centered, A=None, B=None, C=None, D=None):
 
 
 def mjd_inverseFD(m, d, eps, flg_actuation, DfDq=None, DfDv=None, DfDa=None, DsDq=None, DsDv=None, DsDa=None, DmDq=None):
-    """Finite differenced Jacobians of (force, sensors) = mj_inverse(state, acceleration)
-      All outputs are optional. Output dimensions (transposed w.r.t Control Theory convention):
-        DfDq: (nv x nv)
-        DfDv: (nv x nv)
-        DfDa: (nv x nv)
-        DsDq: (nv x nsensordata)
-        DsDv: (nv x nsensordata)
-        DsDa: (nv x nsensordata)
-        DmDq: (nv x nC)
-      single-letter shortcuts:
-        inputs: q=qpos, v=qvel, a=qacc
-        outputs: f=qfrc_inverse, s=sensordata, m=M
-      notes:
-        optionally computes mass matrix Jacobian DmDq
-        flg_actuation specifies whether to subtract qfrc_actuator from qfrc_inverse
+    """mjd_inverseFD(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, eps: float, flg_actuation: int, DfDq: numpy.typing.NDArray[numpy.float64] | None = None, DfDv: numpy.typing.NDArray[numpy.float64] | None = None, DfDa: numpy.typing.NDArray[numpy.float64] | None = None, DsDq: numpy.typing.NDArray[numpy.float64] | None = None, DsDv: numpy.typing.NDArray[numpy.float64] | None = None, DsDa: numpy.typing.NDArray[numpy.float64] | None = None, DmDq: numpy.typing.NDArray[numpy.float64] | None = None) -> None
 
-    d must be made for m (or for a model of the same sizes).
-    DfDq: output array of shape (nv, nv) or None.
-    DfDv: output array of shape (nv, nv) or None.
-    DfDa: output array of shape (nv, nv) or None.
-    DsDq: output array of shape (nv, nsensordata) or None.
-    DsDv: output array of shape (nv, nsensordata) or None.
-    DsDa: output array of shape (nv, nsensordata) or None.
-    DmDq: output array of shape (nv, nC) or None.
-    """
+Finite differenced Jacobians of (force, sensors) = mj_inverse(state, acceleration)
+  All outputs are optional. Output dimensions (transposed w.r.t Control Theory convention):
+    DfDq: (nv x nv)
+    DfDv: (nv x nv)
+    DfDa: (nv x nv)
+    DsDq: (nv x nsensordata)
+    DsDv: (nv x nsensordata)
+    DsDa: (nv x nsensordata)
+    DmDq: (nv x nC)
+  single-letter shortcuts:
+    inputs: q=qpos, v=qvel, a=qacc
+    outputs: f=qfrc_inverse, s=sensordata, m=M
+  notes:
+    optionally computes mass matrix Jacobian DmDq
+    flg_actuation specifies whether to subtract qfrc_actuator from qfrc_inverse
+
+DfDq: output array of shape (nv, nv) or None.
+DfDv: output array of shape (nv, nv) or None.
+DfDa: output array of shape (nv, nv) or None.
+DsDq: output array of shape (nv, nsensordata) or None.
+DsDv: output array of shape (nv, nsensordata) or None.
+DsDa: output array of shape (nv, nsensordata) or None.
+DmDq: output array of shape (nv, nC) or None.
+"""
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    DfDq, c_DfDq = _m.opt_out(DfDq, _m.NUM, "DfDq", (c_m.nv, c_m.nv))
-    DfDv, c_DfDv = _m.opt_out(DfDv, _m.NUM, "DfDv", (c_m.nv, c_m.nv))
-    DfDa, c_DfDa = _m.opt_out(DfDa, _m.NUM, "DfDa", (c_m.nv, c_m.nv))
-    DsDq, c_DsDq = _m.opt_out(DsDq, _m.NUM, "DsDq", (c_m.nv, c_m.nsensordata))
-    DsDv, c_DsDv = _m.opt_out(DsDv, _m.NUM, "DsDv", (c_m.nv, c_m.nsensordata))
-    DsDa, c_DsDa = _m.opt_out(DsDa, _m.NUM, "DsDa", (c_m.nv, c_m.nsensordata))
-    DmDq, c_DmDq = _m.opt_out(DmDq, _m.NUM, "DmDq", (c_m.nv, c_m.nC))
+    DfDq, c_DfDq = _m.opt_out(DfDq, _m.NUM, "DfDq", (c_m.nv, c_m.nv), 'DfDq should be of shape (nv, nv)')
+    DfDv, c_DfDv = _m.opt_out(DfDv, _m.NUM, "DfDv", (c_m.nv, c_m.nv), 'DfDv should be of shape (nv, nv)')
+    DfDa, c_DfDa = _m.opt_out(DfDa, _m.NUM, "DfDa", (c_m.nv, c_m.nv), 'DfDa should be of shape (nv, nv)')
+    DsDq, c_DsDq = _m.opt_out(DsDq, _m.NUM, "DsDq", (c_m.nv, c_m.nsensordata), 'DsDq should be of shape (nv, nsensordata)')
+    DsDv, c_DsDv = _m.opt_out(DsDv, _m.NUM, "DsDv", (c_m.nv, c_m.nsensordata), 'DsDv should be of shape (nv, nsensordata)')
+    DsDa, c_DsDa = _m.opt_out(DsDa, _m.NUM, "DsDa", (c_m.nv, c_m.nsensordata), 'DsDa should be of shape (nv, nsensordata)')
+    DmDq, c_DmDq = _m.opt_out(DmDq, _m.NUM, "DmDq", (c_m.nv, c_m.nC), 'DmDq should be of shape (nv, nC)')
     try:
         status = _lib.mjcffi_guard_mjd_inverseFD(
             c_m, c_d, eps, flg_actuation, c_DfDq, c_DfDv, c_DfDa, c_DsDq, c_DsDv, c_DsDa, c_DmDq)
@@ -4781,29 +5400,35 @@ def mjd_inverseFD(m, d, eps, flg_actuation, DfDq=None, DfDv=None, DfDa=None, DsD
 
 
 def mjd_subQuat(qa, qb, Da=None, Db=None):
-    """Derivatives of mju_subQuat.
+    """mjd_subQuat(qa: numpy.typing.NDArray[numpy.float64], qb: numpy.typing.NDArray[numpy.float64], Da: numpy.typing.NDArray[numpy.float64] | None = None, Db: numpy.typing.NDArray[numpy.float64] | None = None) -> None
 
-    qa: array of shape (4,).
-    qb: array of shape (4,).
-    Da: output array of shape (9,) or None.
-    Db: output array of shape (9,) or None.
-    """
-    qa, c_qa = _m.array_in(qa, _m.NUM, "qa", 4)
-    qb, c_qb = _m.array_in(qb, _m.NUM, "qb", 4)
-    Da, c_Da = _m.opt_out(Da, _m.NUM, "Da", 9)
-    Db, c_Db = _m.opt_out(Db, _m.NUM, "Db", 9)
+Derivatives of mju_subQuat.
+
+qa: array of shape (4,).
+qb: array of shape (4,).
+Da: output array of the size of (9,) or None.
+Db: output array of the size of (9,) or None.
+"""
+    qa, c_qa = _m.array_in(qa, _m.NUM, "qa", 4, 'qa must have size 4')
+    qb, c_qb = _m.array_in(qb, _m.NUM, "qb", 4, 'qb must have size 4')
+    Da, c_Da = _m.opt_out(Da, _m.NUM, "Da")
+    _m.size(Da, 9, "Da", 'Da must have size 9')
+    Db, c_Db = _m.opt_out(Db, _m.NUM, "Db")
+    _m.size(Db, 9, "Db", 'Db must have size 9')
     status = _lib.mjcffi_guard_mjd_subQuat(c_qa, c_qb, c_Da, c_Db)
     _m.check(status)
 
 
 def mjd_quatIntegrate(vel, scale, Dquat=None, Dvel=None, Dscale=None):
-    """Derivatives of mju_quatIntegrate.
+    """mjd_quatIntegrate(vel: numpy.typing.NDArray[numpy.float64], scale: float, Dquat: numpy.typing.NDArray[numpy.float64] | None = None, Dvel: numpy.typing.NDArray[numpy.float64] | None = None, Dscale: numpy.typing.NDArray[numpy.float64] | None = None) -> None
 
-    vel: array of shape (3,).
-    Dquat: output array of shape (9,) or None.
-    Dvel: output array of shape (9,) or None.
-    Dscale: output array of shape (3,) or None.
-    """
+Derivatives of mju_quatIntegrate.
+
+vel: array of shape (3,).
+Dquat: output array of shape (9,) or None.
+Dvel: output array of shape (9,) or None.
+Dscale: output array of shape (3,) or None.
+"""
     vel, c_vel = _m.array_in(vel, _m.NUM, "vel", 3)
     Dquat, c_Dquat = _m.opt_out(Dquat, _m.NUM, "Dquat", 9)
     Dvel, c_Dvel = _m.opt_out(Dvel, _m.NUM, "Dvel", 9)
@@ -4816,39 +5441,49 @@ def mjd_quatIntegrate(vel, scale, Dquat=None, Dvel=None, Dscale=None):
 
 
 def mjp_defaultPlugin(plugin):
-    """Set default plugin definition."""
+    """mjp_defaultPlugin(plugin: mujoco._structs.MjpPlugin) -> None
+
+Set default plugin definition.
+"""
     c_plugin = _m.struct(plugin, "mjpPlugin", "plugin")
     status = _lib.mjcffi_guard_mjp_defaultPlugin(c_plugin)
     _m.check(status)
 
 
 def mjp_registerPlugin(plugin):
-    """Globally register a plugin. This function is thread-safe.
-    If an identical mjpPlugin is already registered, this function does nothing.
-    If a non-identical mjpPlugin with the same name is already registered, an mju_error is raised.
-    Two mjpPlugins are considered identical if all member function pointers and numbers are equal,
-    and the name and attribute strings are all identical, however the char pointers to the strings
-    need not be the same.
+    """mjp_registerPlugin(plugin: mujoco._structs.MjpPlugin) -> None
 
-    Not available in mjcffi: it registers C callbacks with MuJoCo.
-    The raw C function is mjcffi.lib.mjp_registerPlugin.
-    """
+Globally register a plugin. This function is thread-safe.
+If an identical mjpPlugin is already registered, this function does nothing.
+If a non-identical mjpPlugin with the same name is already registered, an mju_error is raised.
+Two mjpPlugins are considered identical if all member function pointers and numbers are equal,
+and the name and attribute strings are all identical, however the char pointers to the strings
+need not be the same.
+
+Not available in mjcffi: it registers C callbacks with MuJoCo.
+The raw C function is mjcffi.lib.mjp_registerPlugin.
+"""
     raise NotImplementedError(
         'mjp_registerPlugin: it registers C callbacks with MuJoCo')
 
 
 def mjp_pluginCount():
-    """Return the number of globally registered plugins."""
+    """mjp_pluginCount() -> int
+
+Return the number of globally registered plugins.
+"""
     ret = _lib.mjcffi_guard_mjp_pluginCount()
     _m.check_error()
     return ret
 
 
 def mjp_getPlugin(name, slot):
-    """Look up a plugin by name. If slot is not NULL, also write its registered slot number into it.
+    """mjp_getPlugin(name: str, slot: numpy.typing.NDArray[numpy.int32]) -> mujoco._structs.MjpPlugin
 
-    slot: output array of shape (1,).
-    """
+Look up a plugin by name. If slot is not NULL, also write its registered slot number into it.
+
+slot: output array of shape (1,).
+"""
     c_name = _m.text(name, "name")
     slot, c_slot = _m.array_out(slot, _m.INT, "slot", 1)
     ret = _lib.mjcffi_guard_mjp_getPlugin(c_name, c_slot)
@@ -4857,7 +5492,10 @@ def mjp_getPlugin(name, slot):
 
 
 def mjp_getPluginAtSlot(slot):
-    """Look up a plugin by the registered slot number that was returned by mjp_registerPlugin."""
+    """mjp_getPluginAtSlot(slot: int) -> mujoco._structs.MjpPlugin
+
+Look up a plugin by the registered slot number that was returned by mjp_registerPlugin.
+"""
     try:
         ret = _lib.mjcffi_guard_mjp_getPluginAtSlot(slot)
     except (TypeError, OverflowError) as exc:
@@ -4867,35 +5505,45 @@ def mjp_getPluginAtSlot(slot):
 
 
 def mjp_defaultProvider(provider):
-    """Set default provider definition."""
+    """mjp_defaultProvider(provider: mujoco._structs.MjpResourceProvider) -> None
+
+Set default provider definition.
+"""
     c_provider = _m.struct(provider, "mjpResourceProvider", "provider")
     status = _lib.mjcffi_guard_mjp_defaultProvider(c_provider)
     _m.check(status)
 
 
 def mjp_registerProvider(provider):
-    """Globally register a provider in a thread-safe manner. The provider must have a prefix
-    that is not a sub-prefix or super-prefix of any current registered providers.
-    Return a slot number >= 0 on success, -1 on failure.
+    """mjp_registerProvider(provider: mujoco._structs.MjpResourceProvider) -> None
 
-    Not available in mjcffi: it registers C callbacks with MuJoCo.
-    The raw C function is mjcffi.lib.mjp_registerProvider.
-    """
+Globally register a provider in a thread-safe manner. The provider must have a prefix
+that is not a sub-prefix or super-prefix of any current registered providers.
+Return a slot number >= 0 on success, -1 on failure.
+
+Not available in mjcffi: it registers C callbacks with MuJoCo.
+The raw C function is mjcffi.lib.mjp_registerProvider.
+"""
     raise NotImplementedError(
         'mjp_registerProvider: it registers C callbacks with MuJoCo')
 
 
 def mjp_providerCount():
-    """Return the number of globally registered providers."""
+    """mjp_providerCount() -> int
+
+Return the number of globally registered providers.
+"""
     ret = _lib.mjcffi_guard_mjp_providerCount()
     _m.check_error()
     return ret
 
 
 def mjp_findProvider(resource_name):
-    """Return the provider with the prefix that matches against the resource name.
-    If no match, return NULL.
-    """
+    """mjp_findProvider(resource_name: str) -> mujoco._structs.MjpResourceProvider
+
+Return the provider with the prefix that matches against the resource name.
+If no match, return NULL.
+"""
     c_resource_name = _m.text(resource_name, "resource_name")
     ret = _lib.mjcffi_guard_mjp_findProvider(c_resource_name)
     _m.check_error()
@@ -4903,9 +5551,11 @@ def mjp_findProvider(resource_name):
 
 
 def mjp_getProviderAtSlot(slot):
-    """Look up a provider by slot number returned by mjp_registerProvider.
-    If invalid slot number, return NULL.
-    """
+    """mjp_getProviderAtSlot(slot: int) -> mujoco._structs.MjpResourceProvider
+
+Look up a provider by slot number returned by mjp_registerProvider.
+If invalid slot number, return NULL.
+"""
     try:
         ret = _lib.mjcffi_guard_mjp_getProviderAtSlot(slot)
     except (TypeError, OverflowError) as exc:
@@ -4915,59 +5565,73 @@ def mjp_getProviderAtSlot(slot):
 
 
 def mjp_registerDecoder(decoder):
-    """Globally register a decoder. This function is thread-safe.
-    If an identical mjpDecoder is already registered, this function does nothing.
-    If a non-identical mjpDecoder with the same name is already registered, an mju_error is raised.
+    """mjp_registerDecoder(decoder: mujoco._structs.MjpDecoder) -> None
 
-    Not available in mjcffi: it registers C callbacks with MuJoCo.
-    The raw C function is mjcffi.lib.mjp_registerDecoder.
-    """
+Globally register a decoder. This function is thread-safe.
+If an identical mjpDecoder is already registered, this function does nothing.
+If a non-identical mjpDecoder with the same name is already registered, an mju_error is raised.
+
+Not available in mjcffi: it registers C callbacks with MuJoCo.
+The raw C function is mjcffi.lib.mjp_registerDecoder.
+"""
     raise NotImplementedError(
         'mjp_registerDecoder: it registers C callbacks with MuJoCo')
 
 
 def mjp_defaultDecoder(decoder):
-    """Set default resource decoder definition."""
+    """mjp_defaultDecoder(decoder: mujoco._structs.MjpDecoder) -> None
+
+Set default resource decoder definition.
+"""
     c_decoder = _m.struct(decoder, "mjpDecoder", "decoder")
     status = _lib.mjcffi_guard_mjp_defaultDecoder(c_decoder)
     _m.check(status)
 
 
 def mjp_findDecoder(resource, content_type):
-    """Return the decoder that matches against the resource or content type.
-    If no match, return NULL.
+    """mjp_findDecoder(resource: mujoco._structs.MjResource, content_type: str) -> None
 
-    Not available in mjcffi: mjResource handles are opened and closed by resource providers in
-    C.
-    The raw C function is mjcffi.lib.mjp_findDecoder.
-    """
+Return the decoder that matches against the resource or content type.
+If no match, return NULL.
+
+Not available in mjcffi: mjResource handles are opened and closed by resource providers in
+C.
+The raw C function is mjcffi.lib.mjp_findDecoder.
+"""
     raise NotImplementedError(
         'mjp_findDecoder: mjResource handles are opened and closed by resource providers in C')
 
 
 def mjp_registerEncoder(encoder):
-    """Globally register an encoder. This function is thread-safe.
-    If an identical mjpEncoder is already registered, this function does nothing.
-    If a non-identical mjpEncoder with the same name is already registered, an mju_error is raised.
+    """mjp_registerEncoder(encoder: mujoco._structs.MjpEncoder) -> None
 
-    Not available in mjcffi: it registers C callbacks with MuJoCo.
-    The raw C function is mjcffi.lib.mjp_registerEncoder.
-    """
+Globally register an encoder. This function is thread-safe.
+If an identical mjpEncoder is already registered, this function does nothing.
+If a non-identical mjpEncoder with the same name is already registered, an mju_error is raised.
+
+Not available in mjcffi: it registers C callbacks with MuJoCo.
+The raw C function is mjcffi.lib.mjp_registerEncoder.
+"""
     raise NotImplementedError(
         'mjp_registerEncoder: it registers C callbacks with MuJoCo')
 
 
 def mjp_defaultEncoder(encoder):
-    """Set default resource encoder definition."""
+    """mjp_defaultEncoder(encoder: mujoco._structs.MjpEncoder) -> None
+
+Set default resource encoder definition.
+"""
     c_encoder = _m.struct(encoder, "mjpEncoder", "encoder")
     status = _lib.mjcffi_guard_mjp_defaultEncoder(c_encoder)
     _m.check(status)
 
 
 def mjp_findEncoder(filename, content_type):
-    """Return the encoder that matches against the content type or filename extension.
-    If no match, return NULL.
-    """
+    """mjp_findEncoder(filename: str, content_type: str) -> mujoco._structs.MjpEncoder
+
+Return the encoder that matches against the content type or filename extension.
+If no match, return NULL.
+"""
     c_filename = _m.text(filename, "filename")
     c_content_type = _m.text(content_type, "content_type")
     ret = _lib.mjcffi_guard_mjp_findEncoder(c_filename, c_content_type)
@@ -4976,20 +5640,24 @@ def mjp_findEncoder(filename, content_type):
 
 
 def mjp_registerArchiveProvider(provider):
-    """Globally register an archive provider. This function is thread-safe.
-    provider->prefix specifies the filename extension(s) (e.g. .mjz|.zip).
+    """mjp_registerArchiveProvider(provider: mujoco._structs.MjpResourceProvider) -> None
 
-    Not available in mjcffi: it registers C callbacks with MuJoCo.
-    The raw C function is mjcffi.lib.mjp_registerArchiveProvider.
-    """
+Globally register an archive provider. This function is thread-safe.
+provider->prefix specifies the filename extension(s) (e.g. .mjz|.zip).
+
+Not available in mjcffi: it registers C callbacks with MuJoCo.
+The raw C function is mjcffi.lib.mjp_registerArchiveProvider.
+"""
     raise NotImplementedError(
         'mjp_registerArchiveProvider: it registers C callbacks with MuJoCo')
 
 
 def mjp_findArchiveProvider(resource_name):
-    """Return the archive provider that matches against the resource name.
-    If no match, return NULL.
-    """
+    """mjp_findArchiveProvider(resource_name: str) -> mujoco._structs.MjpResourceProvider
+
+Return the archive provider that matches against the resource name.
+If no match, return NULL.
+"""
     c_resource_name = _m.text(resource_name, "resource_name")
     ret = _lib.mjcffi_guard_mjp_findArchiveProvider(c_resource_name)
     _m.check_error()
@@ -4997,49 +5665,61 @@ def mjp_findArchiveProvider(resource_name):
 
 
 def mjp_archiveProviderCount():
-    """Return the number of globally registered archive providers."""
+    """mjp_archiveProviderCount() -> int
+
+Return the number of globally registered archive providers.
+"""
     ret = _lib.mjcffi_guard_mjp_archiveProviderCount()
     _m.check_error()
     return ret
 
 
 def mju_openResource(dir, name, vfs, error, nerror):
-    """Open a resource; if the name doesn't have a prefix matching a registered provider,
-    then the OS filesystem is used.
+    """mju_openResource(dir: str | None, name: str, vfs: mujoco._structs.MjVFS | None, error: bytearray | None, nerror: int) -> None
 
-    Not available in mjcffi: mjResource handles are opened and closed by resource providers in
-    C.
-    The raw C function is mjcffi.lib.mju_openResource.
-    """
+Open a resource; if the name doesn't have a prefix matching a registered provider,
+then the OS filesystem is used.
+
+Not available in mjcffi: mjResource handles are opened and closed by resource providers in
+C.
+The raw C function is mjcffi.lib.mju_openResource.
+"""
     raise NotImplementedError(
         'mju_openResource: mjResource handles are opened and closed by resource providers in C')
 
 
 def mju_closeResource(resource):
-    """Close a resource; no-op if resource is NULL.
+    """mju_closeResource(resource: mujoco._structs.MjResource) -> None
 
-    Not available in mjcffi: mjResource handles are opened and closed by resource providers in
-    C.
-    The raw C function is mjcffi.lib.mju_closeResource.
-    """
+Close a resource; no-op if resource is NULL.
+
+Not available in mjcffi: mjResource handles are opened and closed by resource providers in
+C.
+The raw C function is mjcffi.lib.mju_closeResource.
+"""
     raise NotImplementedError(
         'mju_closeResource: mjResource handles are opened and closed by resource providers in C')
 
 
 def mju_readResource(resource, buffer):
-    """Set buffer to bytes read from the resource and return number of bytes in buffer;
-    return negative value if error.
+    """mju_readResource(resource: mujoco._structs.MjResource, buffer: Any) -> None
 
-    Not available in mjcffi: mjResource handles are opened and closed by resource providers in
-    C.
-    The raw C function is mjcffi.lib.mju_readResource.
-    """
+Set buffer to bytes read from the resource and return number of bytes in buffer;
+return negative value if error.
+
+Not available in mjcffi: mjResource handles are opened and closed by resource providers in
+C.
+The raw C function is mjcffi.lib.mju_readResource.
+"""
     raise NotImplementedError(
         'mju_readResource: mjResource handles are opened and closed by resource providers in C')
 
 
 def mju_writeResource(name, buffer, vfs=None):
-    """Write resource data via its provider, return bytes written or -1 on error."""
+    """mju_writeResource(name: str, buffer: bytes, vfs: mujoco._structs.MjVFS | None = None) -> int
+
+Write resource data via its provider, return bytes written or -1 on error.
+"""
     c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
     c_name = _m.text(name, "name")
     c_buffer, nbytes_buffer = _m.buffer_in(buffer, "buffer")
@@ -5056,46 +5736,54 @@ def mju_writeResource(name, buffer, vfs=None):
 
 
 def mju_getResourceDir(resource, dir, ndir):
-    """For a resource with a name partitioned as {dir}{filename}, get the dir and ndir pointers.
+    """mju_getResourceDir(resource: mujoco._structs.MjResource, dir: Any, ndir: numpy.typing.NDArray[numpy.int32]) -> None
 
-    Not available in mjcffi: mjResource handles are opened and closed by resource providers in
-    C.
-    The raw C function is mjcffi.lib.mju_getResourceDir.
-    """
+For a resource with a name partitioned as {dir}{filename}, get the dir and ndir pointers.
+
+Not available in mjcffi: mjResource handles are opened and closed by resource providers in
+C.
+The raw C function is mjcffi.lib.mju_getResourceDir.
+"""
     raise NotImplementedError(
         'mju_getResourceDir: mjResource handles are opened and closed by resource providers in C')
 
 
 def mju_isModifiedResource(resource, timestamp):
-    """Compare resource timestamp to provided timestamp.
-    Return 0 if timestamps match, >0 if resource is newer, <0 if resource is older.
+    """mju_isModifiedResource(resource: mujoco._structs.MjResource, timestamp: str) -> None
 
-    Not available in mjcffi: mjResource handles are opened and closed by resource providers in
-    C.
-    The raw C function is mjcffi.lib.mju_isModifiedResource.
-    """
+Compare resource timestamp to provided timestamp.
+Return 0 if timestamps match, >0 if resource is newer, <0 if resource is older.
+
+Not available in mjcffi: mjResource handles are opened and closed by resource providers in
+C.
+The raw C function is mjcffi.lib.mju_isModifiedResource.
+"""
     raise NotImplementedError(
         'mju_isModifiedResource: mjResource handles are opened and closed by resource providers in C')
 
 
 def mju_decodeResource(resource, content_type, vfs, error, error_sz):
-    """Find the decoder for a resource and return the decoded spec.
-    The caller takes ownership of the spec and is responsible for cleaning it up.
-    On failure, return NULL and write the reason to error.
+    """mju_decodeResource(resource: mujoco._structs.MjResource, content_type: str, vfs: mujoco._structs.MjVFS | None, error: bytearray | None, error_sz: int) -> None
 
-    Not available in mjcffi: mjResource handles are opened and closed by resource providers in
-    C.
-    The raw C function is mjcffi.lib.mju_decodeResource.
-    """
+Find the decoder for a resource and return the decoded spec.
+The caller takes ownership of the spec and is responsible for cleaning it up.
+On failure, return NULL and write the reason to error.
+
+Not available in mjcffi: mjResource handles are opened and closed by resource providers in
+C.
+The raw C function is mjcffi.lib.mju_decodeResource.
+"""
     raise NotImplementedError(
         'mju_decodeResource: mjResource handles are opened and closed by resource providers in C')
 
 
 def mju_threadpool(d, nthread):
-    """Create a thread pool with nthread worker threads.
+    """mju_threadpool(d: mujoco._structs.MjData, nthread: int) -> None
 
-    nthread must be within 0..1025-1.
-    """
+Create a thread pool with nthread worker threads.
+
+nthread must be within 0..1025-1.
+"""
     c_d = _m.struct(d, "mjData", "d")
     _m.index(nthread, 1025, "nthread", 0)
     try:
@@ -5106,7 +5794,10 @@ def mju_threadpool(d, nthread):
 
 
 def mjs_attach(parent, child, prefix, suffix):
-    """Attach child to a parent; return the attached element if success or NULL otherwise."""
+    """mjs_attach(parent: mujoco._structs.MjsElement, child: mujoco._structs.MjsElement, prefix: str, suffix: str) -> mujoco._structs.MjsElement
+
+Attach child to a parent; return the attached element if success or NULL otherwise.
+"""
     c_parent = _m.struct(parent, "mjsElement", "parent")
     c_child = _m.struct(child, "mjsElement", "child")
     c_prefix = _m.text(prefix, "prefix")
@@ -5117,7 +5808,10 @@ def mjs_attach(parent, child, prefix, suffix):
 
 
 def mjs_addBody(body, def_=None):
-    """Add child body to body; return child."""
+    """mjs_addBody(body: mujoco._structs.MjsBody, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsBody
+
+Add child body to body; return child.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addBody(c_body, c_def_)
@@ -5126,7 +5820,10 @@ def mjs_addBody(body, def_=None):
 
 
 def mjs_addSite(body, def_=None):
-    """Add site to body; return site spec."""
+    """mjs_addSite(body: mujoco._structs.MjsBody, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsSite
+
+Add site to body; return site spec.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addSite(c_body, c_def_)
@@ -5135,7 +5832,10 @@ def mjs_addSite(body, def_=None):
 
 
 def mjs_addJoint(body, def_=None):
-    """Add joint to body."""
+    """mjs_addJoint(body: mujoco._structs.MjsBody, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsJoint
+
+Add joint to body.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addJoint(c_body, c_def_)
@@ -5144,7 +5844,10 @@ def mjs_addJoint(body, def_=None):
 
 
 def mjs_addFreeJoint(body):
-    """Add freejoint to body."""
+    """mjs_addFreeJoint(body: mujoco._structs.MjsBody) -> mujoco._structs.MjsJoint
+
+Add freejoint to body.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     ret = _lib.mjcffi_guard_mjs_addFreeJoint(c_body)
     _m.check_error()
@@ -5152,7 +5855,10 @@ def mjs_addFreeJoint(body):
 
 
 def mjs_addGeom(body, def_=None):
-    """Add geom to body."""
+    """mjs_addGeom(body: mujoco._structs.MjsBody, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsGeom
+
+Add geom to body.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addGeom(c_body, c_def_)
@@ -5161,7 +5867,10 @@ def mjs_addGeom(body, def_=None):
 
 
 def mjs_addCamera(body, def_=None):
-    """Add camera to body."""
+    """mjs_addCamera(body: mujoco._structs.MjsBody, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsCamera
+
+Add camera to body.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addCamera(c_body, c_def_)
@@ -5170,7 +5879,10 @@ def mjs_addCamera(body, def_=None):
 
 
 def mjs_addLight(body, def_=None):
-    """Add light to body."""
+    """mjs_addLight(body: mujoco._structs.MjsBody, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsLight
+
+Add light to body.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addLight(c_body, c_def_)
@@ -5179,7 +5891,10 @@ def mjs_addLight(body, def_=None):
 
 
 def mjs_addFrame(body, parentframe):
-    """Add frame to body."""
+    """mjs_addFrame(body: mujoco._structs.MjsBody, parentframe: mujoco._structs.MjsFrame) -> mujoco._structs.MjsFrame
+
+Add frame to body.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_parentframe = _m.struct(parentframe, "mjsFrame", "parentframe")
     ret = _lib.mjcffi_guard_mjs_addFrame(c_body, c_parentframe)
@@ -5188,7 +5903,10 @@ def mjs_addFrame(body, parentframe):
 
 
 def mjs_delete(spec, element):
-    """Remove object corresponding to the given element; return 0 on success."""
+    """mjs_delete(spec: mujoco._structs.MjSpec, element: mujoco._structs.MjsElement) -> int
+
+Remove object corresponding to the given element; return 0 on success.
+"""
     c_spec = _m.struct(spec, "mjSpec", "spec")
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_delete(c_spec, c_element)
@@ -5197,7 +5915,10 @@ def mjs_delete(spec, element):
 
 
 def mjs_addActuator(s, def_=None):
-    """Add actuator."""
+    """mjs_addActuator(s: mujoco._structs.MjSpec, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsActuator
+
+Add actuator.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addActuator(c_s, c_def_)
@@ -5206,7 +5927,10 @@ def mjs_addActuator(s, def_=None):
 
 
 def mjs_addSensor(s):
-    """Add sensor."""
+    """mjs_addSensor(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsSensor
+
+Add sensor.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_addSensor(c_s)
     _m.check_error()
@@ -5214,7 +5938,10 @@ def mjs_addSensor(s):
 
 
 def mjs_addFlex(s):
-    """Add flex."""
+    """mjs_addFlex(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsFlex
+
+Add flex.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_addFlex(c_s)
     _m.check_error()
@@ -5222,16 +5949,18 @@ def mjs_addFlex(s):
 
 
 def mjs_makeFlex(body, name, type, dim, dof, count, cellcount, spacing, scale, radius, mass, inertiabox, equality, rigid, flatskin, elastic2d, pos=None, quat=None, origin=None, file=None, vfs=None):
-    """Add flexcomp: create flex with auto-generated bodies/joints, return flex spec.
+    """mjs_makeFlex(body: mujoco._structs.MjsBody, name: str, type: str | None, dim: int, dof: str | None, count: numpy.typing.NDArray[numpy.int32] | None, cellcount: numpy.typing.NDArray[numpy.int32] | None, spacing: numpy.typing.NDArray[numpy.float64] | None, scale: numpy.typing.NDArray[numpy.float64] | None, radius: float, mass: float, inertiabox: float, equality: int, rigid: int, flatskin: int, elastic2d: int, pos: numpy.typing.NDArray[numpy.float64] | None = None, quat: numpy.typing.NDArray[numpy.float64] | None = None, origin: numpy.typing.NDArray[numpy.float64] | None = None, file: str | None = None, vfs: mujoco._structs.MjVFS | None = None) -> mujoco._structs.MjsFlex
 
-    count: array of shape (3,) or None.
-    cellcount: array of shape (3,) or None.
-    spacing: array of shape (3,) or None.
-    scale: array of shape (3,) or None.
-    pos: array of shape (3,) or None.
-    quat: array of shape (4,) or None.
-    origin: array of shape (3,) or None.
-    """
+Add flexcomp: create flex with auto-generated bodies/joints, return flex spec.
+
+count: array of shape (3,) or None.
+cellcount: array of shape (3,) or None.
+spacing: array of shape (3,) or None.
+scale: array of shape (3,) or None.
+pos: array of shape (3,) or None.
+quat: array of shape (4,) or None.
+origin: array of shape (3,) or None.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
     c_name = _m.text(name, "name")
@@ -5261,7 +5990,10 @@ def mjs_makeFlex(body, name, type, dim, dof, count, cellcount, spacing, scale, r
 
 
 def mjs_addPair(s, def_=None):
-    """Add contact pair."""
+    """mjs_addPair(s: mujoco._structs.MjSpec, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsPair
+
+Add contact pair.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addPair(c_s, c_def_)
@@ -5270,7 +6002,10 @@ def mjs_addPair(s, def_=None):
 
 
 def mjs_addExclude(s):
-    """Add excluded body pair."""
+    """mjs_addExclude(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsExclude
+
+Add excluded body pair.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_addExclude(c_s)
     _m.check_error()
@@ -5278,7 +6013,10 @@ def mjs_addExclude(s):
 
 
 def mjs_addEquality(s, def_=None):
-    """Add equality."""
+    """mjs_addEquality(s: mujoco._structs.MjSpec, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsEquality
+
+Add equality.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addEquality(c_s, c_def_)
@@ -5287,7 +6025,10 @@ def mjs_addEquality(s, def_=None):
 
 
 def mjs_addTendon(s, def_=None):
-    """Add tendon."""
+    """mjs_addTendon(s: mujoco._structs.MjSpec, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsTendon
+
+Add tendon.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addTendon(c_s, c_def_)
@@ -5296,7 +6037,10 @@ def mjs_addTendon(s, def_=None):
 
 
 def mjs_wrapSite(tendon, name):
-    """Wrap site using tendon."""
+    """mjs_wrapSite(tendon: mujoco._structs.MjsTendon, name: str) -> mujoco._structs.MjsWrap
+
+Wrap site using tendon.
+"""
     c_tendon = _m.struct(tendon, "mjsTendon", "tendon")
     c_name = _m.text(name, "name")
     ret = _lib.mjcffi_guard_mjs_wrapSite(c_tendon, c_name)
@@ -5305,7 +6049,10 @@ def mjs_wrapSite(tendon, name):
 
 
 def mjs_wrapGeom(tendon, name, sidesite):
-    """Wrap geom using tendon."""
+    """mjs_wrapGeom(tendon: mujoco._structs.MjsTendon, name: str, sidesite: str) -> mujoco._structs.MjsWrap
+
+Wrap geom using tendon.
+"""
     c_tendon = _m.struct(tendon, "mjsTendon", "tendon")
     c_name = _m.text(name, "name")
     c_sidesite = _m.text(sidesite, "sidesite")
@@ -5315,7 +6062,10 @@ def mjs_wrapGeom(tendon, name, sidesite):
 
 
 def mjs_wrapJoint(tendon, name, coef):
-    """Wrap joint using tendon."""
+    """mjs_wrapJoint(tendon: mujoco._structs.MjsTendon, name: str, coef: float) -> mujoco._structs.MjsWrap
+
+Wrap joint using tendon.
+"""
     c_tendon = _m.struct(tendon, "mjsTendon", "tendon")
     c_name = _m.text(name, "name")
     try:
@@ -5327,7 +6077,10 @@ def mjs_wrapJoint(tendon, name, coef):
 
 
 def mjs_wrapPulley(tendon, divisor):
-    """Wrap pulley using tendon."""
+    """mjs_wrapPulley(tendon: mujoco._structs.MjsTendon, divisor: float) -> mujoco._structs.MjsWrap
+
+Wrap pulley using tendon.
+"""
     c_tendon = _m.struct(tendon, "mjsTendon", "tendon")
     try:
         ret = _lib.mjcffi_guard_mjs_wrapPulley(c_tendon, divisor)
@@ -5338,7 +6091,10 @@ def mjs_wrapPulley(tendon, divisor):
 
 
 def mjs_addNumeric(s):
-    """Add numeric."""
+    """mjs_addNumeric(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsNumeric
+
+Add numeric.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_addNumeric(c_s)
     _m.check_error()
@@ -5346,7 +6102,10 @@ def mjs_addNumeric(s):
 
 
 def mjs_addText(s):
-    """Add text."""
+    """mjs_addText(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsText
+
+Add text.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_addText(c_s)
     _m.check_error()
@@ -5354,7 +6113,10 @@ def mjs_addText(s):
 
 
 def mjs_addTuple(s):
-    """Add tuple."""
+    """mjs_addTuple(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsTuple
+
+Add tuple.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_addTuple(c_s)
     _m.check_error()
@@ -5362,7 +6124,10 @@ def mjs_addTuple(s):
 
 
 def mjs_addKey(s):
-    """Add keyframe."""
+    """mjs_addKey(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsKey
+
+Add keyframe.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_addKey(c_s)
     _m.check_error()
@@ -5370,7 +6135,10 @@ def mjs_addKey(s):
 
 
 def mjs_addPlugin(s):
-    """Add plugin."""
+    """mjs_addPlugin(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsPlugin
+
+Add plugin.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_addPlugin(c_s)
     _m.check_error()
@@ -5378,7 +6146,10 @@ def mjs_addPlugin(s):
 
 
 def mjs_addDefault(s, classname, parent=None):
-    """Add default."""
+    """mjs_addDefault(s: mujoco._structs.MjSpec, classname: str, parent: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsDefault
+
+Add default.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_parent = _m.opt_struct(parent, "mjsDefault", "parent")
     c_classname = _m.text(classname, "classname")
@@ -5388,7 +6159,10 @@ def mjs_addDefault(s, classname, parent=None):
 
 
 def mjs_setToMotor(actuator):
-    """Set actuator to motor; return error if any."""
+    """mjs_setToMotor(actuator: mujoco._structs.MjsActuator) -> str
+
+Set actuator to motor; return error if any.
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     ret = _lib.mjcffi_guard_mjs_setToMotor(c_actuator)
     _m.check_error()
@@ -5396,12 +6170,14 @@ def mjs_setToMotor(actuator):
 
 
 def mjs_setToPosition(actuator, kp, kv, dampratio, timeconst, inheritrange):
-    """Set actuator to position; return error if any.
+    """mjs_setToPosition(actuator: mujoco._structs.MjsActuator, kp: float, kv: numpy.typing.NDArray[numpy.float64], dampratio: numpy.typing.NDArray[numpy.float64], timeconst: numpy.typing.NDArray[numpy.float64], inheritrange: float) -> str
 
-    kv: output array of shape (1,).
-    dampratio: output array of shape (1,).
-    timeconst: output array of shape (1,).
-    """
+Set actuator to position; return error if any.
+
+kv: output array of shape (1,).
+dampratio: output array of shape (1,).
+timeconst: output array of shape (1,).
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     kv, c_kv = _m.array_out(kv, _m.NUM, "kv", 1)
     dampratio, c_dampratio = _m.array_out(dampratio, _m.NUM, "dampratio", 1)
@@ -5417,12 +6193,14 @@ def mjs_setToPosition(actuator, kp, kv, dampratio, timeconst, inheritrange):
 
 
 def mjs_setToIntVelocity(actuator, kp, kv, dampratio, timeconst, inheritrange):
-    """Set actuator to integrated velocity; return error if any.
+    """mjs_setToIntVelocity(actuator: mujoco._structs.MjsActuator, kp: float, kv: numpy.typing.NDArray[numpy.float64], dampratio: numpy.typing.NDArray[numpy.float64], timeconst: numpy.typing.NDArray[numpy.float64], inheritrange: float) -> str
 
-    kv: output array of shape (1,).
-    dampratio: output array of shape (1,).
-    timeconst: output array of shape (1,).
-    """
+Set actuator to integrated velocity; return error if any.
+
+kv: output array of shape (1,).
+dampratio: output array of shape (1,).
+timeconst: output array of shape (1,).
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     kv, c_kv = _m.array_out(kv, _m.NUM, "kv", 1)
     dampratio, c_dampratio = _m.array_out(dampratio, _m.NUM, "dampratio", 1)
@@ -5438,7 +6216,10 @@ def mjs_setToIntVelocity(actuator, kp, kv, dampratio, timeconst, inheritrange):
 
 
 def mjs_setToVelocity(actuator, kv):
-    """Set actuator to velocity servo; return error if any."""
+    """mjs_setToVelocity(actuator: mujoco._structs.MjsActuator, kv: float) -> str
+
+Set actuator to velocity servo; return error if any.
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     try:
         ret = _lib.mjcffi_guard_mjs_setToVelocity(c_actuator, kv)
@@ -5449,11 +6230,13 @@ def mjs_setToVelocity(actuator, kv):
 
 
 def mjs_setToOrientation(actuator, kp, kv, dampratio, ctrlspec):
-    """Set actuator to orientation servo.
+    """mjs_setToOrientation(actuator: mujoco._structs.MjsActuator, kp: float, kv: numpy.typing.NDArray[numpy.float64], dampratio: numpy.typing.NDArray[numpy.float64], ctrlspec: int) -> str
 
-    kv: output array of shape (1,).
-    dampratio: output array of shape (1,).
-    """
+Set actuator to orientation servo.
+
+kv: output array of shape (1,).
+dampratio: output array of shape (1,).
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     kv, c_kv = _m.array_out(kv, _m.NUM, "kv", 1)
     dampratio, c_dampratio = _m.array_out(dampratio, _m.NUM, "dampratio", 1)
@@ -5467,14 +6250,16 @@ def mjs_setToOrientation(actuator, kp, kv, dampratio, ctrlspec):
 
 
 def mjs_setToPID(actuator, kp, kv, dampratio, ki, imax, slewmax, inheritrange, ctrlspec):
-    """Set actuator to PID controller.
+    """mjs_setToPID(actuator: mujoco._structs.MjsActuator, kp: float, kv: numpy.typing.NDArray[numpy.float64], dampratio: numpy.typing.NDArray[numpy.float64], ki: numpy.typing.NDArray[numpy.float64], imax: numpy.typing.NDArray[numpy.float64], slewmax: numpy.typing.NDArray[numpy.float64], inheritrange: float, ctrlspec: int) -> str
 
-    kv: output array of shape (1,).
-    dampratio: output array of shape (1,).
-    ki: output array of shape (1,).
-    imax: output array of shape (1,).
-    slewmax: output array of shape (1,).
-    """
+Set actuator to PID controller.
+
+kv: output array of shape (1,).
+dampratio: output array of shape (1,).
+ki: output array of shape (1,).
+imax: output array of shape (1,).
+slewmax: output array of shape (1,).
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     kv, c_kv = _m.array_out(kv, _m.NUM, "kv", 1)
     dampratio, c_dampratio = _m.array_out(dampratio, _m.NUM, "dampratio", 1)
@@ -5493,7 +6278,10 @@ def mjs_setToPID(actuator, kp, kv, dampratio, ki, imax, slewmax, inheritrange, c
 
 
 def mjs_setToDamper(actuator, kv):
-    """Set actuator to activate damper; return error if any."""
+    """mjs_setToDamper(actuator: mujoco._structs.MjsActuator, kv: float) -> str
+
+Set actuator to activate damper; return error if any.
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     try:
         ret = _lib.mjcffi_guard_mjs_setToDamper(c_actuator, kv)
@@ -5504,7 +6292,10 @@ def mjs_setToDamper(actuator, kv):
 
 
 def mjs_setToCylinder(actuator, timeconst, bias, area, diameter):
-    """Set actuator to hydraulic or pneumatic cylinder; return error if any."""
+    """mjs_setToCylinder(actuator: mujoco._structs.MjsActuator, timeconst: float, bias: float, area: float, diameter: float) -> str
+
+Set actuator to hydraulic or pneumatic cylinder; return error if any.
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     try:
         ret = _lib.mjcffi_guard_mjs_setToCylinder(c_actuator, timeconst, bias, area, diameter)
@@ -5517,11 +6308,13 @@ def mjs_setToCylinder(actuator, timeconst, bias, area, diameter):
 
 
 def mjs_setToMuscle(actuator, timeconst, tausmooth, range, force, scale, lmin, lmax, vmax, fpmax, fvmax):
-    """Set actuator to muscle; return error if any.a
+    """mjs_setToMuscle(actuator: mujoco._structs.MjsActuator, timeconst: numpy.typing.NDArray[numpy.float64], tausmooth: float, range: numpy.typing.NDArray[numpy.float64], force: float, scale: float, lmin: float, lmax: float, vmax: float, fpmax: float, fvmax: float) -> str
 
-    timeconst: output array of shape (2,).
-    range: output array of shape (2,).
-    """
+Set actuator to muscle; return error if any.a
+
+timeconst: output array of shape (2,).
+range: output array of shape (2,).
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     timeconst, c_timeconst = _m.array_out(timeconst, _m.NUM, "timeconst", 2)
     range, c_range = _m.array_out(range, _m.NUM, "range", 2)
@@ -5539,7 +6332,10 @@ def mjs_setToMuscle(actuator, timeconst, tausmooth, range, force, scale, lmin, l
 
 
 def mjs_setToAdhesion(actuator, gain):
-    """Set actuator to active adhesion; return error if any."""
+    """mjs_setToAdhesion(actuator: mujoco._structs.MjsActuator, gain: float) -> str
+
+Set actuator to active adhesion; return error if any.
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     try:
         ret = _lib.mjcffi_guard_mjs_setToAdhesion(c_actuator, gain)
@@ -5550,17 +6346,19 @@ def mjs_setToAdhesion(actuator, gain):
 
 
 def mjs_setToDCMotor(actuator, motorconst, resistance, nominal, saturation, inductance, cogging, controller, thermal, lugre, ctrlspec):
-    """Set actuator to DC motor; return error if any.
+    """mjs_setToDCMotor(actuator: mujoco._structs.MjsActuator, motorconst: numpy.typing.NDArray[numpy.float64] | None, resistance: float, nominal: numpy.typing.NDArray[numpy.float64] | None, saturation: numpy.typing.NDArray[numpy.float64] | None, inductance: numpy.typing.NDArray[numpy.float64] | None, cogging: numpy.typing.NDArray[numpy.float64] | None, controller: numpy.typing.NDArray[numpy.float64] | None, thermal: numpy.typing.NDArray[numpy.float64] | None, lugre: numpy.typing.NDArray[numpy.float64] | None, ctrlspec: int) -> str
 
-    motorconst: output array of shape (2,) or None.
-    nominal: output array of shape (3,) or None.
-    saturation: output array of shape (3,) or None.
-    inductance: output array of shape (2,) or None.
-    cogging: output array of shape (3,) or None.
-    controller: output array of shape (6,) or None.
-    thermal: output array of shape (6,) or None.
-    lugre: output array of shape (5,) or None.
-    """
+Set actuator to DC motor; return error if any.
+
+motorconst: output array of shape (2,) or None.
+nominal: output array of shape (3,) or None.
+saturation: output array of shape (3,) or None.
+inductance: output array of shape (2,) or None.
+cogging: output array of shape (3,) or None.
+controller: output array of shape (6,) or None.
+thermal: output array of shape (6,) or None.
+lugre: output array of shape (5,) or None.
+"""
     c_actuator = _m.struct(actuator, "mjsActuator", "actuator")
     motorconst, c_motorconst = _m.opt_out(motorconst, _m.NUM, "motorconst", 2)
     nominal, c_nominal = _m.opt_out(nominal, _m.NUM, "nominal", 3)
@@ -5582,7 +6380,10 @@ def mjs_setToDCMotor(actuator, motorconst, resistance, nominal, saturation, indu
 
 
 def mjs_addMesh(s, def_=None):
-    """Add mesh."""
+    """mjs_addMesh(s: mujoco._structs.MjSpec, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsMesh
+
+Add mesh.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addMesh(c_s, c_def_)
@@ -5591,7 +6392,10 @@ def mjs_addMesh(s, def_=None):
 
 
 def mjs_addHField(s):
-    """Add height field."""
+    """mjs_addHField(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsHField
+
+Add height field.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_addHField(c_s)
     _m.check_error()
@@ -5599,7 +6403,10 @@ def mjs_addHField(s):
 
 
 def mjs_addSkin(s):
-    """Add skin."""
+    """mjs_addSkin(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsSkin
+
+Add skin.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_addSkin(c_s)
     _m.check_error()
@@ -5607,7 +6414,10 @@ def mjs_addSkin(s):
 
 
 def mjs_addTexture(s, def_=None):
-    """Add texture."""
+    """mjs_addTexture(s: mujoco._structs.MjSpec, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsTexture
+
+Add texture.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addTexture(c_s, c_def_)
@@ -5616,7 +6426,10 @@ def mjs_addTexture(s, def_=None):
 
 
 def mjs_addMaterial(s, def_=None):
-    """Add material."""
+    """mjs_addMaterial(s: mujoco._structs.MjSpec, def_: mujoco._structs.MjsDefault | None = None) -> mujoco._structs.MjsMaterial
+
+Add material.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_def_ = _m.opt_struct(def_, "mjsDefault", "def_")
     ret = _lib.mjcffi_guard_mjs_addMaterial(c_s, c_def_)
@@ -5625,10 +6438,12 @@ def mjs_addMaterial(s, def_=None):
 
 
 def mjs_makeMesh(mesh, builtin, params):
-    """Sets the vertices and normals of a mesh.
+    """mjs_makeMesh(mesh: mujoco._structs.MjsMesh, builtin: int, params: numpy.typing.NDArray[numpy.float64]) -> int
 
-    params: output array of shape (nparams,).
-    """
+Sets the vertices and normals of a mesh.
+
+params: output array of shape (nparams,).
+"""
     c_mesh = _m.struct(mesh, "mjsMesh", "mesh")
     params, c_params = _m.array_out(params, _m.NUM, "params")
     nparams = _m.dim(params, 1, 0, 1, "params")
@@ -5643,7 +6458,10 @@ def mjs_makeMesh(mesh, builtin, params):
 
 
 def mjs_getSpec(element):
-    """Get spec from body."""
+    """mjs_getSpec(element: mujoco._structs.MjsElement) -> mujoco._structs.MjSpec
+
+Get spec from body.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_getSpec(c_element)
     _m.check_error()
@@ -5651,9 +6469,11 @@ def mjs_getSpec(element):
 
 
 def mjs_getOriginSpec(element):
-    """get spec that originally defined an element
-    contrary to mjs_getSpec, this does not change after attachment
-    """
+    """mjs_getOriginSpec(element: mujoco._structs.MjsElement) -> mujoco._structs.MjSpec
+
+get spec that originally defined an element
+contrary to mjs_getSpec, this does not change after attachment
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_getOriginSpec(c_element)
     _m.check_error()
@@ -5661,7 +6481,10 @@ def mjs_getOriginSpec(element):
 
 
 def mjs_getCompiler(element):
-    """Get compiler associated with element's origin spec."""
+    """mjs_getCompiler(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsCompiler
+
+Get compiler associated with element's origin spec.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_getCompiler(c_element)
     _m.check_error()
@@ -5669,7 +6492,10 @@ def mjs_getCompiler(element):
 
 
 def mjs_findSpec(spec, name):
-    """Find spec (model asset) by name."""
+    """mjs_findSpec(spec: mujoco._structs.MjSpec, name: str) -> mujoco._structs.MjSpec
+
+Find spec (model asset) by name.
+"""
     c_spec = _m.struct(spec, "mjSpec", "spec")
     c_name = _m.text(name, "name")
     ret = _lib.mjcffi_guard_mjs_findSpec(c_spec, c_name)
@@ -5678,7 +6504,10 @@ def mjs_findSpec(spec, name):
 
 
 def mjs_findBody(s, name):
-    """Find body in spec by name."""
+    """mjs_findBody(s: mujoco._structs.MjSpec, name: str) -> mujoco._structs.MjsBody
+
+Find body in spec by name.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_name = _m.text(name, "name")
     ret = _lib.mjcffi_guard_mjs_findBody(c_s, c_name)
@@ -5687,7 +6516,10 @@ def mjs_findBody(s, name):
 
 
 def mjs_findElement(s, type, name):
-    """Find element in spec by name."""
+    """mjs_findElement(s: mujoco._structs.MjSpec, type: int, name: str) -> mujoco._structs.MjsElement
+
+Find element in spec by name.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_name = _m.text(name, "name")
     try:
@@ -5699,7 +6531,10 @@ def mjs_findElement(s, type, name):
 
 
 def mjs_findChild(body, name):
-    """Find child body by name."""
+    """mjs_findChild(body: mujoco._structs.MjsBody, name: str) -> mujoco._structs.MjsBody
+
+Find child body by name.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_name = _m.text(name, "name")
     ret = _lib.mjcffi_guard_mjs_findChild(c_body, c_name)
@@ -5708,7 +6543,10 @@ def mjs_findChild(body, name):
 
 
 def mjs_getParent(element):
-    """Get parent body."""
+    """mjs_getParent(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsBody
+
+Get parent body.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_getParent(c_element)
     _m.check_error()
@@ -5716,7 +6554,10 @@ def mjs_getParent(element):
 
 
 def mjs_getFrame(element):
-    """Get parent frame."""
+    """mjs_getFrame(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsFrame
+
+Get parent frame.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_getFrame(c_element)
     _m.check_error()
@@ -5724,7 +6565,10 @@ def mjs_getFrame(element):
 
 
 def mjs_findFrame(s, name):
-    """Find frame by name."""
+    """mjs_findFrame(s: mujoco._structs.MjSpec, name: str) -> mujoco._structs.MjsFrame
+
+Find frame by name.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_name = _m.text(name, "name")
     ret = _lib.mjcffi_guard_mjs_findFrame(c_s, c_name)
@@ -5733,7 +6577,10 @@ def mjs_findFrame(s, name):
 
 
 def mjs_getDefault(element):
-    """Get default corresponding to an element."""
+    """mjs_getDefault(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsDefault
+
+Get default corresponding to an element.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_getDefault(c_element)
     _m.check_error()
@@ -5741,7 +6588,10 @@ def mjs_getDefault(element):
 
 
 def mjs_findDefault(s, classname):
-    """Find default in model by class name."""
+    """mjs_findDefault(s: mujoco._structs.MjSpec, classname: str) -> mujoco._structs.MjsDefault
+
+Find default in model by class name.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_classname = _m.text(classname, "classname")
     ret = _lib.mjcffi_guard_mjs_findDefault(c_s, c_classname)
@@ -5750,7 +6600,10 @@ def mjs_findDefault(s, classname):
 
 
 def mjs_getSpecDefault(s):
-    """Get global default from model."""
+    """mjs_getSpecDefault(s: mujoco._structs.MjSpec) -> mujoco._structs.MjsDefault
+
+Get global default from model.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_getSpecDefault(c_s)
     _m.check_error()
@@ -5758,7 +6611,10 @@ def mjs_getSpecDefault(s):
 
 
 def mjs_getId(element):
-    """Get element id."""
+    """mjs_getId(element: mujoco._structs.MjsElement) -> int
+
+Get element id.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_getId(c_element)
     _m.check_error()
@@ -5766,7 +6622,10 @@ def mjs_getId(element):
 
 
 def mjs_firstChild(body, type, recurse):
-    """Return body's first child of given type. If recurse is nonzero, also search the body's subtree."""
+    """mjs_firstChild(body: mujoco._structs.MjsBody, type: int, recurse: int) -> mujoco._structs.MjsElement
+
+Return body's first child of given type. If recurse is nonzero, also search the body's subtree.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     try:
         ret = _lib.mjcffi_guard_mjs_firstChild(c_body, type, recurse)
@@ -5778,9 +6637,11 @@ def mjs_firstChild(body, type, recurse):
 
 
 def mjs_nextChild(body, child, recurse):
-    """Return body's next child of the same type; return NULL if child is last.
-    If recurse is nonzero, also search the body's subtree.
-    """
+    """mjs_nextChild(body: mujoco._structs.MjsBody, child: mujoco._structs.MjsElement, recurse: int) -> mujoco._structs.MjsElement
+
+Return body's next child of the same type; return NULL if child is last.
+If recurse is nonzero, also search the body's subtree.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_child = _m.struct(child, "mjsElement", "child")
     try:
@@ -5792,7 +6653,10 @@ def mjs_nextChild(body, child, recurse):
 
 
 def mjs_firstElement(s, type):
-    """Return spec's first element of selected type."""
+    """mjs_firstElement(s: mujoco._structs.MjSpec, type: int) -> mujoco._structs.MjsElement
+
+Return spec's first element of selected type.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     _m.require(type != 0, 'type must not be mjOBJ_UNKNOWN')
     try:
@@ -5804,7 +6668,10 @@ def mjs_firstElement(s, type):
 
 
 def mjs_nextElement(s, element):
-    """Return spec's next element; return NULL if element is last."""
+    """mjs_nextElement(s: mujoco._structs.MjSpec, element: mujoco._structs.MjsElement) -> mujoco._structs.MjsElement
+
+Return spec's next element; return NULL if element is last.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_nextElement(c_s, c_element)
@@ -5813,7 +6680,10 @@ def mjs_nextElement(s, element):
 
 
 def mjs_getWrapTarget(wrap):
-    """Get wrapped element in tendon path."""
+    """mjs_getWrapTarget(wrap: mujoco._structs.MjsWrap) -> mujoco._structs.MjsElement
+
+Get wrapped element in tendon path.
+"""
     c_wrap = _m.struct(wrap, "mjsWrap", "wrap")
     ret = _lib.mjcffi_guard_mjs_getWrapTarget(c_wrap)
     _m.check_error()
@@ -5821,7 +6691,10 @@ def mjs_getWrapTarget(wrap):
 
 
 def mjs_getWrapSideSite(wrap):
-    """Get wrapped element side site in tendon path if it has one, nullptr otherwise."""
+    """mjs_getWrapSideSite(wrap: mujoco._structs.MjsWrap) -> mujoco._structs.MjsSite
+
+Get wrapped element side site in tendon path if it has one, nullptr otherwise.
+"""
     c_wrap = _m.struct(wrap, "mjsWrap", "wrap")
     ret = _lib.mjcffi_guard_mjs_getWrapSideSite(c_wrap)
     _m.check_error()
@@ -5829,7 +6702,10 @@ def mjs_getWrapSideSite(wrap):
 
 
 def mjs_getWrapDivisor(wrap):
-    """Get divisor of mjsWrap wrapping a puller."""
+    """mjs_getWrapDivisor(wrap: mujoco._structs.MjsWrap) -> float
+
+Get divisor of mjsWrap wrapping a puller.
+"""
     c_wrap = _m.struct(wrap, "mjsWrap", "wrap")
     ret = _lib.mjcffi_guard_mjs_getWrapDivisor(c_wrap)
     _m.check_error()
@@ -5837,7 +6713,10 @@ def mjs_getWrapDivisor(wrap):
 
 
 def mjs_getWrapCoef(wrap):
-    """Get coefficient of mjsWrap wrapping a joint."""
+    """mjs_getWrapCoef(wrap: mujoco._structs.MjsWrap) -> float
+
+Get coefficient of mjsWrap wrapping a joint.
+"""
     c_wrap = _m.struct(wrap, "mjsWrap", "wrap")
     ret = _lib.mjcffi_guard_mjs_getWrapCoef(c_wrap)
     _m.check_error()
@@ -5845,7 +6724,10 @@ def mjs_getWrapCoef(wrap):
 
 
 def mjs_setName(element, name):
-    """Set element's name; return 0 on success."""
+    """mjs_setName(element: mujoco._structs.MjsElement, name: str) -> int
+
+Set element's name; return 0 on success.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     c_name = _m.text(name, "name")
     ret = _lib.mjcffi_guard_mjs_setName(c_element, c_name)
@@ -5854,7 +6736,10 @@ def mjs_setName(element, name):
 
 
 def mjs_setBuffer(dest, array):
-    """Copy buffer."""
+    """mjs_setBuffer(dest: Any, array: bytes) -> None
+
+Copy buffer.
+"""
     c_dest = _m.opaque(dest, "dest", False)
     c_array, nbytes_array = _m.buffer_in(array, "array")
     size = nbytes_array
@@ -5866,7 +6751,10 @@ def mjs_setBuffer(dest, array):
 
 
 def mjs_setString(dest, text):
-    """Copy text to string."""
+    """mjs_setString(dest: Any, text: str) -> None
+
+Copy text to string.
+"""
     c_dest = _m.opaque(dest, "dest", False)
     c_text = _m.text(text, "text")
     status = _lib.mjcffi_guard_mjs_setString(c_dest, c_text)
@@ -5874,7 +6762,10 @@ def mjs_setString(dest, text):
 
 
 def mjs_setStringVec(dest, text):
-    """Split text to entries and copy to string vector."""
+    """mjs_setStringVec(dest: Any, text: str) -> None
+
+Split text to entries and copy to string vector.
+"""
     c_dest = _m.opaque(dest, "dest", False)
     c_text = _m.text(text, "text")
     status = _lib.mjcffi_guard_mjs_setStringVec(c_dest, c_text)
@@ -5882,7 +6773,10 @@ def mjs_setStringVec(dest, text):
 
 
 def mjs_setInStringVec(dest, i, text):
-    """Set entry in string vector."""
+    """mjs_setInStringVec(dest: Any, i: int, text: str) -> int
+
+Set entry in string vector.
+"""
     c_dest = _m.opaque(dest, "dest", False)
     c_text = _m.text(text, "text")
     try:
@@ -5894,7 +6788,10 @@ def mjs_setInStringVec(dest, i, text):
 
 
 def mjs_appendString(dest, text):
-    """Append text entry to string vector."""
+    """mjs_appendString(dest: Any, text: str) -> None
+
+Append text entry to string vector.
+"""
     c_dest = _m.opaque(dest, "dest", False)
     c_text = _m.text(text, "text")
     status = _lib.mjcffi_guard_mjs_appendString(c_dest, c_text)
@@ -5902,10 +6799,12 @@ def mjs_appendString(dest, text):
 
 
 def mjs_setInt(dest, array):
-    """Copy int array to vector.
+    """mjs_setInt(dest: Any, array: numpy.typing.NDArray[numpy.int32]) -> None
 
-    array: array of shape (size,).
-    """
+Copy int array to vector.
+
+array: array of shape (size,).
+"""
     c_dest = _m.opaque(dest, "dest", False)
     array, c_array = _m.array_in(array, _m.INT, "array")
     size = _m.dim(array, 1, 0, 1, "array")
@@ -5918,10 +6817,12 @@ def mjs_setInt(dest, array):
 
 
 def mjs_appendIntVec(dest, array):
-    """Append int array to vector of arrays.
+    """mjs_appendIntVec(dest: Any, array: numpy.typing.NDArray[numpy.int32]) -> None
 
-    array: array of shape (size,).
-    """
+Append int array to vector of arrays.
+
+array: array of shape (size,).
+"""
     c_dest = _m.opaque(dest, "dest", False)
     array, c_array = _m.array_in(array, _m.INT, "array")
     size = _m.dim(array, 1, 0, 1, "array")
@@ -5934,10 +6835,12 @@ def mjs_appendIntVec(dest, array):
 
 
 def mjs_setFloat(dest, array):
-    """Copy float array to vector.
+    """mjs_setFloat(dest: Any, array: numpy.typing.NDArray[numpy.float32]) -> None
 
-    array: array of shape (size,).
-    """
+Copy float array to vector.
+
+array: array of shape (size,).
+"""
     c_dest = _m.opaque(dest, "dest", False)
     array, c_array = _m.array_in(array, _m.FLOAT, "array")
     size = _m.dim(array, 1, 0, 1, "array")
@@ -5950,10 +6853,12 @@ def mjs_setFloat(dest, array):
 
 
 def mjs_appendFloatVec(dest, array):
-    """Append float array to vector of arrays.
+    """mjs_appendFloatVec(dest: Any, array: numpy.typing.NDArray[numpy.float32]) -> None
 
-    array: array of shape (size,).
-    """
+Append float array to vector of arrays.
+
+array: array of shape (size,).
+"""
     c_dest = _m.opaque(dest, "dest", False)
     array, c_array = _m.array_in(array, _m.FLOAT, "array")
     size = _m.dim(array, 1, 0, 1, "array")
@@ -5966,10 +6871,12 @@ def mjs_appendFloatVec(dest, array):
 
 
 def mjs_setDouble(dest, array):
-    """Copy double array to vector.
+    """mjs_setDouble(dest: Any, array: numpy.typing.NDArray[numpy.float64]) -> None
 
-    array: array of shape (size,).
-    """
+Copy double array to vector.
+
+array: array of shape (size,).
+"""
     c_dest = _m.opaque(dest, "dest", False)
     array, c_array = _m.array_in(array, _m.NUM, "array")
     size = _m.dim(array, 1, 0, 1, "array")
@@ -5982,17 +6889,22 @@ def mjs_setDouble(dest, array):
 
 
 def mjs_setPluginAttributes(plugin, attributes):
-    """Set plugin attributes.
+    """mjs_setPluginAttributes(plugin: mujoco._structs.MjsPlugin, attributes: bytearray) -> None
 
-    Not available in mjcffi: it takes a C++ std::map behind a void *.
-    The raw C function is mjcffi.lib.mjs_setPluginAttributes.
-    """
+Set plugin attributes.
+
+Not available in mjcffi: it takes a C++ std::map behind a void *.
+The raw C function is mjcffi.lib.mjs_setPluginAttributes.
+"""
     raise NotImplementedError(
         'mjs_setPluginAttributes: it takes a C++ std::map behind a void *')
 
 
 def mjs_getName(element):
-    """Get element's name."""
+    """mjs_getName(element: mujoco._structs.MjsElement) -> Any
+
+Get element's name.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_getName(c_element)
     _m.check_error()
@@ -6000,7 +6912,10 @@ def mjs_getName(element):
 
 
 def mjs_getString(source):
-    """Get string contents."""
+    """mjs_getString(source: Any) -> str
+
+Get string contents.
+"""
     c_source = _m.opaque(source, "source", False)
     ret = _lib.mjcffi_guard_mjs_getString(c_source)
     _m.check_error()
@@ -6008,7 +6923,10 @@ def mjs_getString(source):
 
 
 def mjs_getWrapNum(tendonspec):
-    """Get number of elements a tendon wraps."""
+    """mjs_getWrapNum(tendonspec: mujoco._structs.MjsTendon) -> int
+
+Get number of elements a tendon wraps.
+"""
     c_tendonspec = _m.struct(tendonspec, "mjsTendon", "tendonspec")
     ret = _lib.mjcffi_guard_mjs_getWrapNum(c_tendonspec)
     _m.check_error()
@@ -6016,7 +6934,10 @@ def mjs_getWrapNum(tendonspec):
 
 
 def mjs_getWrap(tendonspec, i):
-    """Get mjsWrap element at position i in the tendon path."""
+    """mjs_getWrap(tendonspec: mujoco._structs.MjsTendon, i: int) -> mujoco._structs.MjsWrap
+
+Get mjsWrap element at position i in the tendon path.
+"""
     c_tendonspec = _m.struct(tendonspec, "mjsTendon", "tendonspec")
     try:
         ret = _lib.mjcffi_guard_mjs_getWrap(c_tendonspec, i)
@@ -6027,7 +6948,10 @@ def mjs_getWrap(tendonspec, i):
 
 
 def mjs_getPluginAttributes(plugin):
-    """Get plugin attributes."""
+    """mjs_getPluginAttributes(plugin: mujoco._structs.MjsPlugin) -> Any
+
+Get plugin attributes.
+"""
     c_plugin = _m.struct(plugin, "mjsPlugin", "plugin")
     ret = _lib.mjcffi_guard_mjs_getPluginAttributes(c_plugin)
     _m.check_error()
@@ -6035,7 +6959,10 @@ def mjs_getPluginAttributes(plugin):
 
 
 def mjs_setDefault(element, def_):
-    """Set element's default."""
+    """mjs_setDefault(element: mujoco._structs.MjsElement, def_: mujoco._structs.MjsDefault) -> None
+
+Set element's default.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     c_def_ = _m.struct(def_, "mjsDefault", "def_")
     status = _lib.mjcffi_guard_mjs_setDefault(c_element, c_def_)
@@ -6043,7 +6970,10 @@ def mjs_setDefault(element, def_):
 
 
 def mjs_setFrame(dest, frame):
-    """Set element's enclosing frame; return 0 on success."""
+    """mjs_setFrame(dest: mujoco._structs.MjsElement, frame: mujoco._structs.MjsFrame) -> int
+
+Set element's enclosing frame; return 0 on success.
+"""
     c_dest = _m.struct(dest, "mjsElement", "dest")
     c_frame = _m.struct(frame, "mjsFrame", "frame")
     ret = _lib.mjcffi_guard_mjs_setFrame(c_dest, c_frame)
@@ -6052,10 +6982,12 @@ def mjs_setFrame(dest, frame):
 
 
 def mjs_resolveOrientation(quat, degree, sequence, orientation):
-    """Resolve alternative orientations to quat; return error if any.
+    """mjs_resolveOrientation(quat: numpy.typing.NDArray[numpy.float64], degree: int, sequence: str, orientation: mujoco._structs.MjsOrientation) -> str
 
-    quat: output array of shape (4,).
-    """
+Resolve alternative orientations to quat; return error if any.
+
+quat: output array of shape (4,).
+"""
     c_orientation = _m.struct(orientation, "mjsOrientation", "orientation")
     c_sequence = _m.text(sequence, "sequence")
     quat, c_quat = _m.array_out(quat, _m.NUM, "quat", 4)
@@ -6069,7 +7001,10 @@ def mjs_resolveOrientation(quat, degree, sequence, orientation):
 
 
 def mjs_fuseStatic(s, vfs=None):
-    """Fuse the static bodies of the spec with their parents; return the number fused, -1 on error."""
+    """mjs_fuseStatic(s: mujoco._structs.MjSpec, vfs: mujoco._structs.MjVFS | None = None) -> int
+
+Fuse the static bodies of the spec with their parents; return the number fused, -1 on error.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
     ret = _lib.mjcffi_guard_mjs_fuseStatic(c_s, c_vfs)
@@ -6078,7 +7013,10 @@ def mjs_fuseStatic(s, vfs=None):
 
 
 def mjs_discardVisual(s, vfs=None):
-    """Discard the visual elements of the spec; return the number discarded, -1 on error."""
+    """mjs_discardVisual(s: mujoco._structs.MjSpec, vfs: mujoco._structs.MjVFS | None = None) -> int
+
+Discard the visual elements of the spec; return the number discarded, -1 on error.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
     ret = _lib.mjcffi_guard_mjs_discardVisual(c_s, c_vfs)
@@ -6087,9 +7025,11 @@ def mjs_discardVisual(s, vfs=None):
 
 
 def mjs_dedupAssets(s):
-    """Merge the textures and meshes of the spec which would compile to the same asset; return the number
-    merged, -1 on error.
-    """
+    """mjs_dedupAssets(s: mujoco._structs.MjSpec) -> int
+
+Merge the textures and meshes of the spec which would compile to the same asset; return the number
+merged, -1 on error.
+"""
     c_s = _m.struct(s, "mjSpec", "s")
     ret = _lib.mjcffi_guard_mjs_dedupAssets(c_s)
     _m.check_error()
@@ -6097,7 +7037,10 @@ def mjs_dedupAssets(s):
 
 
 def mjs_adoptInertial(body, vfs=None):
-    """Make the inertial which compilation infers for a body part of the spec, return 0 on success."""
+    """mjs_adoptInertial(body: mujoco._structs.MjsBody, vfs: mujoco._structs.MjVFS | None = None) -> int
+
+Make the inertial which compilation infers for a body part of the spec, return 0 on success.
+"""
     c_body = _m.struct(body, "mjsBody", "body")
     c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
     ret = _lib.mjcffi_guard_mjs_adoptInertial(c_body, c_vfs)
@@ -6106,17 +7049,22 @@ def mjs_adoptInertial(body, vfs=None):
 
 
 def mjs_bodyToFrame(body):
-    """Transform body into a frame.
+    """mjs_bodyToFrame(body: Any) -> None
 
-    Not available in mjcffi: it frees the body it converts (mjsBody **).
-    The raw C function is mjcffi.lib.mjs_bodyToFrame.
-    """
+Transform body into a frame.
+
+Not available in mjcffi: it frees the body it converts (mjsBody **).
+The raw C function is mjcffi.lib.mjs_bodyToFrame.
+"""
     raise NotImplementedError(
         'mjs_bodyToFrame: it frees the body it converts (mjsBody **)')
 
 
 def mjs_setUserValue(element, key, data):
-    """Set user payload, overriding the existing value for the specified key if present."""
+    """mjs_setUserValue(element: mujoco._structs.MjsElement, key: str, data: bytes) -> None
+
+Set user payload, overriding the existing value for the specified key if present.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     c_key = _m.text(key, "key")
     c_data = _m.opaque(data, "data", False)
@@ -6125,19 +7073,24 @@ def mjs_setUserValue(element, key, data):
 
 
 def mjs_setUserValueWithCleanup(element, key, data, cleanup):
-    """Set user payload, overriding the existing value for the specified key if
-    present. This version differs from mjs_setUserValue in that it takes a
-    cleanup function that will be called when the user payload is deleted.
+    """mjs_setUserValueWithCleanup(element: mujoco._structs.MjsElement, key: str, data: bytes, cleanup: Any) -> None
 
-    Not available in mjcffi: it takes a C callback.
-    The raw C function is mjcffi.lib.mjs_setUserValueWithCleanup.
-    """
+Set user payload, overriding the existing value for the specified key if
+present. This version differs from mjs_setUserValue in that it takes a
+cleanup function that will be called when the user payload is deleted.
+
+Not available in mjcffi: it takes a C callback.
+The raw C function is mjcffi.lib.mjs_setUserValueWithCleanup.
+"""
     raise NotImplementedError(
         'mjs_setUserValueWithCleanup: it takes a C callback')
 
 
 def mjs_getUserValue(element, key):
-    """Return user payload or NULL if none found."""
+    """mjs_getUserValue(element: mujoco._structs.MjsElement, key: str) -> Any
+
+Return user payload or NULL if none found.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     c_key = _m.text(key, "key")
     ret = _lib.mjcffi_guard_mjs_getUserValue(c_element, c_key)
@@ -6146,7 +7099,10 @@ def mjs_getUserValue(element, key):
 
 
 def mjs_deleteUserValue(element, key):
-    """Delete user payload."""
+    """mjs_deleteUserValue(element: mujoco._structs.MjsElement, key: str) -> None
+
+Delete user payload.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     c_key = _m.text(key, "key")
     status = _lib.mjcffi_guard_mjs_deleteUserValue(c_element, c_key)
@@ -6154,7 +7110,10 @@ def mjs_deleteUserValue(element, key):
 
 
 def mjs_sensorDim(sensor):
-    """Return sensor dimension."""
+    """mjs_sensorDim(sensor: mujoco._structs.MjsSensor) -> int
+
+Return sensor dimension.
+"""
     c_sensor = _m.struct(sensor, "mjsSensor", "sensor")
     ret = _lib.mjcffi_guard_mjs_sensorDim(c_sensor)
     _m.check_error()
@@ -6162,278 +7121,332 @@ def mjs_sensorDim(sensor):
 
 
 def mjs_defaultSpec(spec):
-    """Default spec attributes.
+    """mjs_defaultSpec(spec: mujoco._structs.MjSpec) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultSpec.
-    """
+Default spec attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultSpec.
+"""
     raise NotImplementedError(
         'mjs_defaultSpec: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultOrientation(orient):
-    """Default orientation attributes."""
+    """mjs_defaultOrientation(orient: mujoco._structs.MjsOrientation) -> None
+
+Default orientation attributes.
+"""
     c_orient = _m.struct(orient, "mjsOrientation", "orient")
     status = _lib.mjcffi_guard_mjs_defaultOrientation(c_orient)
     _m.check(status)
 
 
 def mjs_defaultBody(body):
-    """Default body attributes.
+    """mjs_defaultBody(body: mujoco._structs.MjsBody) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultBody.
-    """
+Default body attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultBody.
+"""
     raise NotImplementedError(
         'mjs_defaultBody: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultFrame(frame):
-    """Default frame attributes.
+    """mjs_defaultFrame(frame: mujoco._structs.MjsFrame) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultFrame.
-    """
+Default frame attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultFrame.
+"""
     raise NotImplementedError(
         'mjs_defaultFrame: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultJoint(joint):
-    """Default joint attributes.
+    """mjs_defaultJoint(joint: mujoco._structs.MjsJoint) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultJoint.
-    """
+Default joint attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultJoint.
+"""
     raise NotImplementedError(
         'mjs_defaultJoint: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultGeom(geom):
-    """Default geom attributes.
+    """mjs_defaultGeom(geom: mujoco._structs.MjsGeom) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultGeom.
-    """
+Default geom attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultGeom.
+"""
     raise NotImplementedError(
         'mjs_defaultGeom: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultSite(site):
-    """Default site attributes.
+    """mjs_defaultSite(site: mujoco._structs.MjsSite) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultSite.
-    """
+Default site attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultSite.
+"""
     raise NotImplementedError(
         'mjs_defaultSite: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultCamera(camera):
-    """Default camera attributes.
+    """mjs_defaultCamera(camera: mujoco._structs.MjsCamera) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultCamera.
-    """
+Default camera attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultCamera.
+"""
     raise NotImplementedError(
         'mjs_defaultCamera: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultLight(light):
-    """Default light attributes.
+    """mjs_defaultLight(light: mujoco._structs.MjsLight) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultLight.
-    """
+Default light attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultLight.
+"""
     raise NotImplementedError(
         'mjs_defaultLight: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultFlex(flex):
-    """Default flex attributes.
+    """mjs_defaultFlex(flex: mujoco._structs.MjsFlex) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultFlex.
-    """
+Default flex attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultFlex.
+"""
     raise NotImplementedError(
         'mjs_defaultFlex: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultMesh(mesh):
-    """Default mesh attributes.
+    """mjs_defaultMesh(mesh: mujoco._structs.MjsMesh) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultMesh.
-    """
+Default mesh attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultMesh.
+"""
     raise NotImplementedError(
         'mjs_defaultMesh: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultHField(hfield):
-    """Default height field attributes.
+    """mjs_defaultHField(hfield: mujoco._structs.MjsHField) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultHField.
-    """
+Default height field attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultHField.
+"""
     raise NotImplementedError(
         'mjs_defaultHField: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultSkin(skin):
-    """Default skin attributes.
+    """mjs_defaultSkin(skin: mujoco._structs.MjsSkin) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultSkin.
-    """
+Default skin attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultSkin.
+"""
     raise NotImplementedError(
         'mjs_defaultSkin: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultTexture(texture):
-    """Default texture attributes.
+    """mjs_defaultTexture(texture: mujoco._structs.MjsTexture) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultTexture.
-    """
+Default texture attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultTexture.
+"""
     raise NotImplementedError(
         'mjs_defaultTexture: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultMaterial(material):
-    """Default material attributes.
+    """mjs_defaultMaterial(material: mujoco._structs.MjsMaterial) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultMaterial.
-    """
+Default material attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultMaterial.
+"""
     raise NotImplementedError(
         'mjs_defaultMaterial: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultPair(pair):
-    """Default pair attributes.
+    """mjs_defaultPair(pair: mujoco._structs.MjsPair) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultPair.
-    """
+Default pair attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultPair.
+"""
     raise NotImplementedError(
         'mjs_defaultPair: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultEquality(equality):
-    """Default equality attributes.
+    """mjs_defaultEquality(equality: mujoco._structs.MjsEquality) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultEquality.
-    """
+Default equality attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultEquality.
+"""
     raise NotImplementedError(
         'mjs_defaultEquality: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultTendon(tendon):
-    """Default tendon attributes.
+    """mjs_defaultTendon(tendon: mujoco._structs.MjsTendon) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultTendon.
-    """
+Default tendon attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultTendon.
+"""
     raise NotImplementedError(
         'mjs_defaultTendon: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultActuator(actuator):
-    """Default actuator attributes.
+    """mjs_defaultActuator(actuator: mujoco._structs.MjsActuator) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultActuator.
-    """
+Default actuator attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultActuator.
+"""
     raise NotImplementedError(
         'mjs_defaultActuator: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultSensor(sensor):
-    """Default sensor attributes.
+    """mjs_defaultSensor(sensor: mujoco._structs.MjsSensor) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultSensor.
-    """
+Default sensor attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultSensor.
+"""
     raise NotImplementedError(
         'mjs_defaultSensor: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultNumeric(numeric):
-    """Default numeric attributes.
+    """mjs_defaultNumeric(numeric: mujoco._structs.MjsNumeric) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultNumeric.
-    """
+Default numeric attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultNumeric.
+"""
     raise NotImplementedError(
         'mjs_defaultNumeric: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultText(text):
-    """Default text attributes.
+    """mjs_defaultText(text: mujoco._structs.MjsText) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultText.
-    """
+Default text attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultText.
+"""
     raise NotImplementedError(
         'mjs_defaultText: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultTuple(tuple):
-    """Default tuple attributes.
+    """mjs_defaultTuple(tuple: mujoco._structs.MjsTuple) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultTuple.
-    """
+Default tuple attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultTuple.
+"""
     raise NotImplementedError(
         'mjs_defaultTuple: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultKey(key):
-    """Default keyframe attributes.
+    """mjs_defaultKey(key: mujoco._structs.MjsKey) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultKey.
-    """
+Default keyframe attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultKey.
+"""
     raise NotImplementedError(
         'mjs_defaultKey: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_defaultPlugin(plugin):
-    """Default plugin attributes.
+    """mjs_defaultPlugin(plugin: mujoco._structs.MjsPlugin) -> None
 
-    Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
-    owns (the only kind Python has) it clears the pointers the spec manages.
-    The raw C function is mjcffi.lib.mjs_defaultPlugin.
-    """
+Default plugin attributes.
+
+Not available in mjcffi: it is for structs that C code lays out; on an element that its spec
+owns (the only kind Python has) it clears the pointers the spec manages.
+The raw C function is mjcffi.lib.mjs_defaultPlugin.
+"""
     raise NotImplementedError(
         'mjs_defaultPlugin: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
 
 
 def mjs_asBody(element):
-    """Safely cast an element as mjsBody, or return NULL if the element is not an mjsBody."""
+    """mjs_asBody(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsBody
+
+Safely cast an element as mjsBody, or return NULL if the element is not an mjsBody.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asBody(c_element)
     _m.check_error()
@@ -6441,7 +7454,10 @@ def mjs_asBody(element):
 
 
 def mjs_asGeom(element):
-    """Safely cast an element as mjsGeom, or return NULL if the element is not an mjsGeom."""
+    """mjs_asGeom(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsGeom
+
+Safely cast an element as mjsGeom, or return NULL if the element is not an mjsGeom.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asGeom(c_element)
     _m.check_error()
@@ -6449,7 +7465,10 @@ def mjs_asGeom(element):
 
 
 def mjs_asJoint(element):
-    """Safely cast an element as mjsJoint, or return NULL if the element is not an mjsJoint."""
+    """mjs_asJoint(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsJoint
+
+Safely cast an element as mjsJoint, or return NULL if the element is not an mjsJoint.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asJoint(c_element)
     _m.check_error()
@@ -6457,7 +7476,10 @@ def mjs_asJoint(element):
 
 
 def mjs_asSite(element):
-    """Safely cast an element as mjsSite, or return NULL if the element is not an mjsSite."""
+    """mjs_asSite(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsSite
+
+Safely cast an element as mjsSite, or return NULL if the element is not an mjsSite.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asSite(c_element)
     _m.check_error()
@@ -6465,7 +7487,10 @@ def mjs_asSite(element):
 
 
 def mjs_asCamera(element):
-    """Safely cast an element as mjsCamera, or return NULL if the element is not an mjsCamera."""
+    """mjs_asCamera(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsCamera
+
+Safely cast an element as mjsCamera, or return NULL if the element is not an mjsCamera.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asCamera(c_element)
     _m.check_error()
@@ -6473,7 +7498,10 @@ def mjs_asCamera(element):
 
 
 def mjs_asLight(element):
-    """Safely cast an element as mjsLight, or return NULL if the element is not an mjsLight."""
+    """mjs_asLight(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsLight
+
+Safely cast an element as mjsLight, or return NULL if the element is not an mjsLight.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asLight(c_element)
     _m.check_error()
@@ -6481,7 +7509,10 @@ def mjs_asLight(element):
 
 
 def mjs_asFrame(element):
-    """Safely cast an element as mjsFrame, or return NULL if the element is not an mjsFrame."""
+    """mjs_asFrame(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsFrame
+
+Safely cast an element as mjsFrame, or return NULL if the element is not an mjsFrame.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asFrame(c_element)
     _m.check_error()
@@ -6489,7 +7520,10 @@ def mjs_asFrame(element):
 
 
 def mjs_asActuator(element):
-    """Safely cast an element as mjsActuator, or return NULL if the element is not an mjsActuator."""
+    """mjs_asActuator(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsActuator
+
+Safely cast an element as mjsActuator, or return NULL if the element is not an mjsActuator.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asActuator(c_element)
     _m.check_error()
@@ -6497,7 +7531,10 @@ def mjs_asActuator(element):
 
 
 def mjs_asSensor(element):
-    """Safely cast an element as mjsSensor, or return NULL if the element is not an mjsSensor."""
+    """mjs_asSensor(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsSensor
+
+Safely cast an element as mjsSensor, or return NULL if the element is not an mjsSensor.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asSensor(c_element)
     _m.check_error()
@@ -6505,7 +7542,10 @@ def mjs_asSensor(element):
 
 
 def mjs_asFlex(element):
-    """Safely cast an element as mjsFlex, or return NULL if the element is not an mjsFlex."""
+    """mjs_asFlex(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsFlex
+
+Safely cast an element as mjsFlex, or return NULL if the element is not an mjsFlex.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asFlex(c_element)
     _m.check_error()
@@ -6513,7 +7553,10 @@ def mjs_asFlex(element):
 
 
 def mjs_asPair(element):
-    """Safely cast an element as mjsPair, or return NULL if the element is not an mjsPair."""
+    """mjs_asPair(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsPair
+
+Safely cast an element as mjsPair, or return NULL if the element is not an mjsPair.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asPair(c_element)
     _m.check_error()
@@ -6521,7 +7564,10 @@ def mjs_asPair(element):
 
 
 def mjs_asEquality(element):
-    """Safely cast an element as mjsEquality, or return NULL if the element is not an mjsEquality."""
+    """mjs_asEquality(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsEquality
+
+Safely cast an element as mjsEquality, or return NULL if the element is not an mjsEquality.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asEquality(c_element)
     _m.check_error()
@@ -6529,7 +7575,10 @@ def mjs_asEquality(element):
 
 
 def mjs_asExclude(element):
-    """Safely cast an element as mjsExclude, or return NULL if the element is not an mjsExclude."""
+    """mjs_asExclude(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsExclude
+
+Safely cast an element as mjsExclude, or return NULL if the element is not an mjsExclude.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asExclude(c_element)
     _m.check_error()
@@ -6537,7 +7586,10 @@ def mjs_asExclude(element):
 
 
 def mjs_asTendon(element):
-    """Safely cast an element as mjsTendon, or return NULL if the element is not an mjsTendon."""
+    """mjs_asTendon(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsTendon
+
+Safely cast an element as mjsTendon, or return NULL if the element is not an mjsTendon.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asTendon(c_element)
     _m.check_error()
@@ -6545,7 +7597,10 @@ def mjs_asTendon(element):
 
 
 def mjs_asNumeric(element):
-    """Safely cast an element as mjsNumeric, or return NULL if the element is not an mjsNumeric."""
+    """mjs_asNumeric(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsNumeric
+
+Safely cast an element as mjsNumeric, or return NULL if the element is not an mjsNumeric.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asNumeric(c_element)
     _m.check_error()
@@ -6553,7 +7608,10 @@ def mjs_asNumeric(element):
 
 
 def mjs_asText(element):
-    """Safely cast an element as mjsText, or return NULL if the element is not an mjsText."""
+    """mjs_asText(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsText
+
+Safely cast an element as mjsText, or return NULL if the element is not an mjsText.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asText(c_element)
     _m.check_error()
@@ -6561,7 +7619,10 @@ def mjs_asText(element):
 
 
 def mjs_asTuple(element):
-    """Safely cast an element as mjsTuple, or return NULL if the element is not an mjsTuple."""
+    """mjs_asTuple(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsTuple
+
+Safely cast an element as mjsTuple, or return NULL if the element is not an mjsTuple.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asTuple(c_element)
     _m.check_error()
@@ -6569,7 +7630,10 @@ def mjs_asTuple(element):
 
 
 def mjs_asKey(element):
-    """Safely cast an element as mjsKey, or return NULL if the element is not an mjsKey."""
+    """mjs_asKey(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsKey
+
+Safely cast an element as mjsKey, or return NULL if the element is not an mjsKey.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asKey(c_element)
     _m.check_error()
@@ -6577,7 +7641,10 @@ def mjs_asKey(element):
 
 
 def mjs_asMesh(element):
-    """Safely cast an element as mjsMesh, or return NULL if the element is not an mjsMesh."""
+    """mjs_asMesh(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsMesh
+
+Safely cast an element as mjsMesh, or return NULL if the element is not an mjsMesh.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asMesh(c_element)
     _m.check_error()
@@ -6585,7 +7652,10 @@ def mjs_asMesh(element):
 
 
 def mjs_asHField(element):
-    """Safely cast an element as mjsHField, or return NULL if the element is not an mjsHField."""
+    """mjs_asHField(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsHField
+
+Safely cast an element as mjsHField, or return NULL if the element is not an mjsHField.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asHField(c_element)
     _m.check_error()
@@ -6593,7 +7663,10 @@ def mjs_asHField(element):
 
 
 def mjs_asSkin(element):
-    """Safely cast an element as mjsSkin, or return NULL if the element is not an mjsSkin."""
+    """mjs_asSkin(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsSkin
+
+Safely cast an element as mjsSkin, or return NULL if the element is not an mjsSkin.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asSkin(c_element)
     _m.check_error()
@@ -6601,7 +7674,10 @@ def mjs_asSkin(element):
 
 
 def mjs_asTexture(element):
-    """Safely cast an element as mjsTexture, or return NULL if the element is not an mjsTexture."""
+    """mjs_asTexture(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsTexture
+
+Safely cast an element as mjsTexture, or return NULL if the element is not an mjsTexture.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asTexture(c_element)
     _m.check_error()
@@ -6609,7 +7685,10 @@ def mjs_asTexture(element):
 
 
 def mjs_asMaterial(element):
-    """Safely cast an element as mjsMaterial, or return NULL if the element is not an mjsMaterial."""
+    """mjs_asMaterial(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsMaterial
+
+Safely cast an element as mjsMaterial, or return NULL if the element is not an mjsMaterial.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asMaterial(c_element)
     _m.check_error()
@@ -6617,7 +7696,10 @@ def mjs_asMaterial(element):
 
 
 def mjs_asPlugin(element):
-    """Safely cast an element as mjsPlugin, or return NULL if the element is not an mjsPlugin."""
+    """mjs_asPlugin(element: mujoco._structs.MjsElement) -> mujoco._structs.MjsPlugin
+
+Safely cast an element as mjsPlugin, or return NULL if the element is not an mjsPlugin.
+"""
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_asPlugin(c_element)
     _m.check_error()
@@ -6625,273 +7707,324 @@ def mjs_asPlugin(element):
 
 
 def mjb_defaultConfig(config):
-    """Set default batch parameters: one thread per logical CPU, one mjData per thread."""
+    """mjb_defaultConfig(config: mujoco._structs.MjBatchConfig) -> None
+
+Set default batch parameters: one thread per logical CPU, one mjData per thread.
+"""
     c_config = _m.struct(config, "mjBatchConfig", "config")
     status = _lib.mjcffi_guard_mjb_defaultConfig(c_config)
     _m.check(status)
 
 
 def mjb_makeBatch(m, nsim, config, error, error_sz):
-    """Allocate a batch of nsim simulations of a copy of m; return NULL and write error on failure.
+    """mjb_makeBatch(m: mujoco._structs.MjModel, nsim: int, config: mujoco._structs.MjBatchConfig | None, error: bytearray | None, error_sz: int) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_makeBatch.
-    """
+Allocate a batch of nsim simulations of a copy of m; return NULL and write error on failure.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_makeBatch.
+"""
     raise NotImplementedError(
         'mjb_makeBatch: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_deleteBatch(b):
-    """Free a batch.
+    """mjb_deleteBatch(b: Any) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_deleteBatch.
-    """
+Free a batch.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_deleteBatch.
+"""
     raise NotImplementedError(
         'mjb_deleteBatch: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_nstate(b):
-    """Return size of a state row: mj_stateSize(m, mjSTATE_INTEGRATION).
+    """mjb_nstate(b: Any) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_nstate.
-    """
+Return size of a state row: mj_stateSize(m, mjSTATE_INTEGRATION).
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_nstate.
+"""
     raise NotImplementedError(
         'mjb_nstate: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_state(b):
-    """Return state rows (nsim x nstate), in mj_getState order.
+    """mjb_state(b: Any) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_state.
-    """
+Return state rows (nsim x nstate), in mj_getState order.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_state.
+"""
     raise NotImplementedError(
         'mjb_state: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_stateComponent(b, component, size=None):
-    """Return address of a state component (one mjtState bit) in the first row; rows are nstate apart.
+    """mjb_stateComponent(b: Any, component: int, size: numpy.typing.NDArray[numpy.int32] | None = None) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_stateComponent.
-    """
+Return address of a state component (one mjtState bit) in the first row; rows are nstate apart.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_stateComponent.
+"""
     raise NotImplementedError(
         'mjb_stateComponent: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_warning(b):
-    """Return warning counters (nsim x mjNWARNING).
+    """mjb_warning(b: Any) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_warning.
-    """
+Return warning counters (nsim x mjNWARNING).
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_warning.
+"""
     raise NotImplementedError(
         'mjb_warning: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_step(b, ids, nid, nstep, stage):
-    """Advance simulations by nstep calls to mj_step, then compute stages up to stage (mjtStage);
-    return number of failed simulations.
+    """mjb_step(b: Any, ids: numpy.typing.NDArray[numpy.int32] | None, nid: int, nstep: int, stage: int) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_step.
-    """
+Advance simulations by nstep calls to mj_step, then compute stages up to stage (mjtStage);
+return number of failed simulations.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_step.
+"""
     raise NotImplementedError(
         'mjb_step: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_forward(b, ids, nid, stage):
-    """Compute stages up to stage (mjtStage) on simulations; return number of failed simulations.
+    """mjb_forward(b: Any, ids: numpy.typing.NDArray[numpy.int32] | None, nid: int, stage: int) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_forward.
-    """
+Compute stages up to stage (mjtStage) on simulations; return number of failed simulations.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_forward.
+"""
     raise NotImplementedError(
         'mjb_forward: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_reset(b, ids, nid, key, stage):
-    """Reset simulations to keyframes (key, per simulation; -1 or NULL: defaults), then compute stages;
-    return number failed.
+    """mjb_reset(b: Any, ids: numpy.typing.NDArray[numpy.int32] | None, nid: int, key: numpy.typing.NDArray[numpy.int32] | None, stage: int) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_reset.
-    """
+Reset simulations to keyframes (key, per simulation; -1 or NULL: defaults), then compute stages;
+return number failed.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_reset.
+"""
     raise NotImplementedError(
         'mjb_reset: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_status(b):
-    """Return status of each simulation's last call (nsim): nonzero if it raised an error.
+    """mjb_status(b: Any) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_status.
-    """
+Return status of each simulation's last call (nsim): nonzero if it raised an error.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_status.
+"""
     raise NotImplementedError(
         'mjb_status: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_error(b, sim):
-    """Return error message of simulation's last call, or "" if none.
+    """mjb_error(b: Any, sim: int) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_error.
-    """
+Return error message of simulation's last call, or "" if none.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_error.
+"""
     raise NotImplementedError(
         'mjb_error: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_output(b, name, size=None, elemsize=None):
-    """Copy mjData field out after every call; return its storage (nsim x size), NULL if invalid.
+    """mjb_output(b: Any, name: str, size: numpy.typing.NDArray[numpy.int32] | None = None, elemsize: numpy.typing.NDArray[numpy.int32] | None = None) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_output.
-    """
+Copy mjData field out after every call; return its storage (nsim x size), NULL if invalid.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_output.
+"""
     raise NotImplementedError(
         'mjb_output: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_expand(b, name, size=None, elemsize=None):
-    """Give mjModel field per-simulation values; return its storage (nsim x size), NULL if invalid.
+    """mjb_expand(b: Any, name: str, size: numpy.typing.NDArray[numpy.int32] | None = None, elemsize: numpy.typing.NDArray[numpy.int32] | None = None) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_expand.
-    """
+Give mjModel field per-simulation values; return its storage (nsim x size), NULL if invalid.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_expand.
+"""
     raise NotImplementedError(
         'mjb_expand: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_expanded(b, name, size=None, elemsize=None):
-    """Return storage (nsim x size) of mjModel field if expanded, without expanding it; NULL if not.
+    """mjb_expanded(b: Any, name: str, size: numpy.typing.NDArray[numpy.int32] | None = None, elemsize: numpy.typing.NDArray[numpy.int32] | None = None) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_expanded.
-    """
+Return storage (nsim x size) of mjModel field if expanded, without expanding it; NULL if not.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_expanded.
+"""
     raise NotImplementedError(
         'mjb_expanded: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_setConst(b, ids, nid):
-    """Run mj_setConst on each simulation's model; return number of failed simulations.
+    """mjb_setConst(b: Any, ids: numpy.typing.NDArray[numpy.int32] | None, nid: int) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_setConst.
-    """
+Run mj_setConst on each simulation's model; return number of failed simulations.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_setConst.
+"""
     raise NotImplementedError(
         'mjb_setConst: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_setModels(b, models=None):
-    """Run simulation i on models[i], the caller's, instead of the batch's model; NULL: the batch's.
+    """mjb_setModels(b: Any, models: Any | None = None) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_setModels.
-    """
+Run simulation i on models[i], the caller's, instead of the batch's model; NULL: the batch's.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_setModels.
+"""
     raise NotImplementedError(
         'mjb_setModels: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_rollout(b, ids, nid, nstep, control, control_spec, record, nrecord):
-    """Advance simulations with per-substep controls and records; return number failed.
+    """mjb_rollout(b: Any, ids: numpy.typing.NDArray[numpy.int32] | None, nid: int, nstep: int, control: numpy.typing.NDArray[numpy.float64] | None, control_spec: int, record: mujoco._structs.MjBatchRecord | None, nrecord: int) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_rollout.
-    """
+Advance simulations with per-substep controls and records; return number failed.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_rollout.
+"""
     raise NotImplementedError(
         'mjb_rollout: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_apply(b, ids, nid, func, arg, save):
-    """Run func on each simulation, saving the state if save is nonzero; return number failed.
+    """mjb_apply(b: Any, ids: numpy.typing.NDArray[numpy.int32] | None, nid: int, func: Any, arg: bytearray | None, save: int) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_apply.
-    """
+Run func on each simulation, saving the state if save is nonzero; return number failed.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_apply.
+"""
     raise NotImplementedError(
         'mjb_apply: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_getModel(b, sim, m):
-    """Write simulation sim's model into m, which has the batch's sizes, such as a copy of mjb_model.
+    """mjb_getModel(b: Any, sim: int, m: mujoco._structs.MjModel) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_getModel.
-    """
+Write simulation sim's model into m, which has the batch's sizes, such as a copy of mjb_model.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_getModel.
+"""
     raise NotImplementedError(
         'mjb_getModel: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_getData(b, sim, d):
-    """Write simulation sim's state into d, which has the batch's sizes; persistent: its whole mjData.
+    """mjb_getData(b: Any, sim: int, d: mujoco._structs.MjData) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_getData.
-    """
+Write simulation sim's state into d, which has the batch's sizes; persistent: its whole mjData.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_getData.
+"""
     raise NotImplementedError(
         'mjb_getData: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_nsim(b):
-    """Return number of simulations.
+    """mjb_nsim(b: Any) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_nsim.
-    """
+Return number of simulations.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_nsim.
+"""
     raise NotImplementedError(
         'mjb_nsim: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_nthread(b):
-    """Return number of threads, including the caller's.
+    """mjb_nthread(b: Any) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_nthread.
-    """
+Return number of threads, including the caller's.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_nthread.
+"""
     raise NotImplementedError(
         'mjb_nthread: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_persistent(b):
-    """Return 1 if the batch keeps one mjData per simulation, 0 otherwise.
+    """mjb_persistent(b: Any) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_persistent.
-    """
+Return 1 if the batch keeps one mjData per simulation, 0 otherwise.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_persistent.
+"""
     raise NotImplementedError(
         'mjb_persistent: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
 
 
 def mjb_model(b):
-    """Return the batch's copy of the model.
+    """mjb_model(b: Any) -> None
 
-    Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
-    mjcffi.batch.Batch (from mjcffi import batch).
-    The raw C function is mjcffi.lib.mjb_model.
-    """
+Return the batch's copy of the model.
+
+Not available in mjcffi: the batch API hands out an opaque mjBatch and buffers it owns: use
+mjcffi.batch.Batch (from mjcffi import batch).
+The raw C function is mjcffi.lib.mjb_model.
+"""
     raise NotImplementedError(
         'mjb_model: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')

@@ -10,14 +10,18 @@ a short list of calls into this module, then the guarded C call.  The rules:
   `np.ascontiguousarray` converts to the exact dtype; an output (non-const)
   must already be a writable, C-contiguous ndarray of the exact dtype, so
   that MuJoCo's result lands in it and never in a silent copy.
-- An array matches the expected dims when it has the same number of
-  elements and, unless it is flat, the same shape once axes of length 1 are
-  dropped: jacp for (3, nv) may be (3, nv) or flat (3*nv,), never (nv, 3).
+- Shapes follow the official bindings: a vector of n is (n,) or (n, 1); an
+  (r, c) matrix is (r, c), or (r,) when c is 1; so jacp is (3, nv), never
+  flat.  A few arguments that the official bindings check by size alone
+  (mju_raySkin's face) take any shape of that size.
 - A model/data pair must belong together: `d` made for `m` (the fast path),
   or for a model with the same sizes (the header of mjModel up to `opt`).
-- Errors name the argument: TypeError for a wrong type or dtype, ValueError
-  for a wrong value, shape, layout or size.  A mju_error inside MuJoCo
-  becomes FatalError.
+- Errors name the argument.  An array the function cannot take raises
+  ArgumentError, a TypeError (as the official bindings) that is also a
+  ValueError; its message is the official one where the official bindings have
+  their own, with the expected shape in a note.  An id out of range raises
+  IdError (IndexError and ValueError).  A mju_error inside MuJoCo becomes
+  FatalError.
 
 Support module: imports only the compiled module, _views, _errors, callbacks (for
 the flag of a stashed callback error) and NumPy.
@@ -32,6 +36,7 @@ import numpy as np
 from . import _errors
 from . import callbacks as _callbacks
 from ._errors import FatalError  # noqa: F401  (raised by the generated functions)
+from ._errors import with_note
 from ._library import ffi, lib
 from ._views import DTYPES
 
@@ -228,89 +233,121 @@ def error_text(buffer, func):
 
 # ----------------------------------------------------------------- arrays
 
+# A bad argument raises what the official bindings raise: TypeError (pybind11
+# refuses what it cannot convert, and their own size checks raise TypeError too),
+# with the official message where they have one of their own.  These classes are
+# also ValueError, which mjcffi raised before, so that code catching either works,
+# as NumPy's AxisError is both ValueError and IndexError.
+
+class ArgumentError(TypeError, ValueError):
+    """An argument of the wrong type, dtype, shape, size or memory layout.
+
+    A TypeError, as in the official bindings, and a ValueError, as in mjcffi
+    before it followed them.  The official message, where the official bindings
+    have one of their own, is str(exc); the shape expected is in a note.
+    """
+
+
+class IdError(IndexError, ValueError):
+    """An id argument out of range: an IndexError (as the official bindings raise
+    for the ids they check), and a ValueError (as mjcffi raised before)."""
+
+
+def _official(message, axis):
+    """The official message for a failure along `axis`: `message` is a str, or
+    ((axis, message), ...) in the order the official bindings check the axes."""
+    if message is None or message.__class__ is str:
+        return message
+    for checked, text in message:
+        if checked == axis:
+            return text
+    return None
+
+
+def _fail(detail, message=None, axis=0):
+    """Raise ArgumentError: the official message with `detail` as a note, or `detail`."""
+    official = _official(message, axis)
+    if official is None:
+        raise ArgumentError(detail)
+    raise with_note(ArgumentError(official), detail)
+
+
 _ndarray = np.ndarray
 _from_buffer = ffi.from_buffer
 
 
 def _convert(value, dtype, name):
     if value is None:
-        raise TypeError(f"{name} must be an array, not None")
+        raise ArgumentError(f"{name} must be an array, not None")
     try:
         return np.ascontiguousarray(value, dtype=dtype)
     except (TypeError, ValueError) as exc:
-        raise type(exc)(f"{name} cannot be converted to a {dtype} array: {exc}") from None
+        raise ArgumentError(f"{name} cannot be converted to a {dtype} array: {exc}") from None
 
 
-def array_in(value, elem, name, dims=None):
+def array_in(value, elem, name, dims=None, message=None):
     """An input array: (ndarray, C pointer); converted to `elem`'s dtype when needed.
 
-    `dims`: the expected number of elements (an int) or shape (a tuple), checked.
+    `dims`: the expected extents, checked (see `shape`); `message`: the official
+    message for a wrong shape.
     """
     dtype, ctype = elem
-    if type(value) is not _ndarray or value.dtype is not dtype or \
-            not value.flags.c_contiguous:
+    if type(value) is not _ndarray or value.dtype is not dtype:
         value = _convert(value, dtype, name)
     if dims is not None:
         if dims.__class__ is int:
-            if value.size != dims:
-                _wrong_shape(value, (dims,), name)
+            if value.size != dims or value.ndim != 1:
+                _vector(value, dims, name, message)
         else:
-            shape(value, dims, name)
-    return value, _from_buffer(ctype, value)
+            shape(value, dims, name, message)
+    try:
+        return value, _from_buffer(ctype, value)
+    except ValueError:               # not C-contiguous: cheaper to learn here than by flags
+        value = _convert(value, dtype, name)
+        return value, _from_buffer(ctype, value)
 
 
-def opt_in(value, elem, name, dims=None):
+def opt_in(value, elem, name, dims=None, message=None):
     """As `array_in`, with None meaning NULL (the header says Nullable)."""
     if value is None:
         return None, NULL
-    dtype, ctype = elem
-    if type(value) is not _ndarray or value.dtype is not dtype or \
-            not value.flags.c_contiguous:
-        value = _convert(value, dtype, name)
-    if dims is not None:
-        shape(value, dims, name)
-    return value, _from_buffer(ctype, value)
+    return array_in(value, elem, name, dims, message)
 
 
-def array_out(value, elem, name, dims=None):
+def array_out(value, elem, name, dims=None, message=None):
     """An output array: (ndarray, C pointer); it must be writable, C-contiguous, of `elem`."""
     dtype, ctype = elem
     if type(value) is not _ndarray or value.dtype is not dtype or not value.flags.carray:
         _check_output(value, dtype, name)
     if dims is not None:
         if dims.__class__ is int:
-            if value.size != dims:
-                _wrong_shape(value, (dims,), name)
+            if value.size != dims or value.ndim != 1:
+                _vector(value, dims, name, message)
         else:
-            shape(value, dims, name)
+            shape(value, dims, name, message)
     return value, _from_buffer(ctype, value)
 
 
 def _check_output(value, dtype, name):
     """Why `value` cannot receive MuJoCo's output (or nothing: a subclass, say)."""
     if not isinstance(value, _ndarray):
-        raise TypeError(f"{name} is an output: it must be a writable NumPy array of "
-                        f"dtype {dtype}, not {type(value).__name__}")
+        raise ArgumentError(f"{name} is an output: it must be a writable NumPy array of "
+                            f"dtype {dtype}, not {type(value).__name__}")
     if value.dtype != dtype:
-        raise TypeError(f"{name} must have dtype {dtype}, not {value.dtype}")
+        raise ArgumentError(f"{name} must have dtype {dtype}, not {value.dtype}")
     if not value.flags.c_contiguous:
-        raise ValueError(f"{name} must be C-contiguous (MuJoCo writes into its memory)")
+        raise ArgumentError(f"{name} must be C-contiguous (MuJoCo writes into its memory)")
     if not value.flags.writeable:
-        raise ValueError(f"{name} is read-only; MuJoCo writes into it")
+        raise ArgumentError(f"{name} is read-only; MuJoCo writes into it")
     if not value.flags.aligned:
-        raise ValueError(f"{name} must be aligned")
+        raise ArgumentError(f"{name} must be aligned")
 
 
-def opt_out(value, elem, name, dims=None):
+def opt_out(value, elem, name, dims=None, message=None):
     """As `array_out`, with None meaning NULL (the header says Nullable)."""
     if value is None:
         return None, NULL
-    dtype, ctype = elem
-    if type(value) is not _ndarray or value.dtype is not dtype or not value.flags.carray:
-        _check_output(value, dtype, name)
-    if dims is not None:
-        shape(value, dims, name)
-    return value, _from_buffer(ctype, value)
+    return array_out(value, elem, name, dims, message)
 
 
 def buffer_in(value, name):
@@ -320,7 +357,7 @@ def buffer_in(value, name):
     except TypeError:
         raise TypeError(f"{name} must be bytes-like, not {type(value).__name__}") from None
     if not view.c_contiguous:
-        raise ValueError(f"{name} must be C-contiguous")
+        raise ArgumentError(f"{name} must be C-contiguous")
     return ffi.from_buffer(value), view.nbytes
 
 
@@ -332,9 +369,9 @@ def buffer_out(value, name):
         raise TypeError(f"{name} must be a writable bytes-like object (bytearray, "
                         f"NumPy array), not {type(value).__name__}") from None
     if view.readonly:
-        raise ValueError(f"{name} is read-only; MuJoCo writes into it")
+        raise ArgumentError(f"{name} is read-only; MuJoCo writes into it")
     if not view.c_contiguous:
-        raise ValueError(f"{name} must be C-contiguous")
+        raise ArgumentError(f"{name} must be C-contiguous")
     return ffi.from_buffer(value), view.nbytes
 
 
@@ -346,67 +383,115 @@ def opt_buffer_out(value, name):
     return (NULL, 0) if value is None else buffer_out(value, name)
 
 
-def dim(array, ndims, axis, factor, name):
+# The layouts accepted, as the official bindings' (pybind11's Eigen) conversions:
+# a vector of n is (n,) or (n, 1); an (r, c) matrix is (r, c), or (r,) when c is 1.
+# A few arguments that the official bindings check by size alone take any shape
+# of the right size (`size`).
+
+def _matrix(array):
+    """`array`'s shape as a matrix: (r, c), or None if it cannot be one."""
+    if array.ndim == 2:
+        return array.shape
+    if array.ndim == 1:
+        return array.shape[0], 1
+    return None
+
+
+def dim(array, ndims, axis, factor, name, message=None):
     """A size deduced from `array` (None if it is None): its length along `axis`
-    of an `ndims`-D layout (its size when ndims is 1), divided by `factor`."""
+    of an `ndims`-D layout, divided by `factor`."""
     if array is None:
         return None
     if ndims == 1:
-        length = array.size
-    elif array.ndim == ndims:
-        length = array.shape[axis]
+        if array.ndim == 1:
+            length = array.size
+        elif array.ndim == 2 and array.shape[1] == 1:
+            length = array.shape[0]
+        else:
+            _fail(f"{name} must be a vector, shape (n,) or (n, 1), got {array.shape}")
     else:
-        raise ValueError(f"{name} must be a {ndims}-D array, got shape {array.shape}")
+        extents = _matrix(array)
+        if extents is None:
+            _fail(f"{name} must be a 2-D array, got shape {array.shape}")
+        length = extents[axis]
     if length % factor:
-        raise ValueError(f"{name} must have a multiple of {factor} elements along "
-                         f"axis {axis}, got shape {array.shape}")
+        _fail(f"{name} must have a multiple of {factor} elements along axis {axis}, "
+              f"got shape {array.shape}", message, axis)
     return length // factor
 
 
-def _squeezed(shape):
-    return tuple(n for n in shape if n != 1)
+def _vector(array, n, name, message=None):
+    """Check that `array` is a vector of `n`: shape (n,) or (n, 1)."""
+    if array.shape == (n,) or array.shape == (n, 1):
+        return
+    if n < 0:
+        raise ValueError(f"{name}: expected size {n} is negative")
+    _fail(f"{name} must have shape ({n},), got {array.shape}", message)
 
 
-def _wrong_shape(array, dims, name):
-    expected = dims[0] if len(dims) == 1 else dims
-    raise ValueError(f"{name} must have shape {expected}, got {array.shape}")
-
-
-def shape(array, dims, name):
-    """Check that `array` (None is skipped) holds `dims`: a size (int) or a shape (tuple)."""
-    if array is None or array.shape == dims:
+def shape(array, dims, name, message=None):
+    """Check that `array` (None is skipped) holds `dims`: a vector size (int) or a shape."""
+    if array is None:
         return
     if dims.__class__ is int:
-        dims = (dims,)
-    size = 1
+        if array.size != dims or array.ndim != 1:
+            _vector(array, dims, name, message)
+        return
+    if array.shape == dims:
+        return
+    if len(dims) == 1:
+        _vector(array, dims if dims.__class__ is int else dims[0], name, message)
+        return
     for n in dims:
         if n < 0:
             raise ValueError(f"{name}: expected shape {dims} has a negative extent")
-        size *= n
-    if array.size != size or (array.ndim > 1 and len(dims) > 1
-                              and _squeezed(array.shape) != _squeezed(dims)):
-        _wrong_shape(array, dims, name)
+    extents = _matrix(array)
+    if extents is None:
+        _fail(f"{name} must have shape {dims}, got {array.shape}", message)
+    for axis in _axes(message):
+        if extents[axis] != dims[axis]:
+            _fail(f"{name} must have shape {dims}, got {array.shape}", message, axis)
 
 
-def index(value, count, name, low=0):
+def _axes(message):
+    """The axes in the order the official bindings check them (see `_official`)."""
+    if message is None or message.__class__ is str:
+        return (0, 1)
+    listed = tuple(axis for axis, _ in message)
+    return listed + tuple(axis for axis in (0, 1) if axis not in listed)
+
+
+def size(array, n, name, message=None):
+    """Check that `array` (None is skipped) has `n` elements, in any 1-D or 2-D shape."""
+    if array is None:
+        return
+    if array.ndim > 2:
+        _fail(f"{name} must be a 1-D or 2-D array, got shape {array.shape}")
+    if array.size != n:
+        _fail(f"{name} must have {n} elements, got shape {array.shape}", message)
+
+
+def index(value, count, name, low=0, message=None):
     """An id argument: an int within low..count-1 (MuJoCo does not check it)."""
     try:
         value = operator.index(value)
     except TypeError:
         raise TypeError(f"{name} must be an int, not {type(value).__name__}") from None
     if not low <= value < count:
-        raise ValueError(f"{name}={value} is out of range: {low} <= {name} < {count}")
+        detail = f"{name}={value} is out of range: {low} <= {name} < {count}"
+        raise IdError(detail) if message is None else with_note(IdError(message), detail)
     return value
 
 
-def count(value, name):
+def count(value, name, message=None):
     """A size argument the caller passes (mj_multiRay's nray): a non-negative int."""
     try:
         value = operator.index(value)
     except TypeError:
         raise TypeError(f"{name} must be an int, not {type(value).__name__}") from None
     if value < 0:
-        raise ValueError(f"{name} must not be negative, got {value}")
+        detail = f"{name} must not be negative, got {value}"
+        raise ValueError(detail) if message is None else with_note(ValueError(message), detail)
     return value
 
 
@@ -429,10 +514,11 @@ def require(condition, message):
         raise ValueError(message)
 
 
-def below(array, limit, name):
+def below(array, limit, name, message=None):
     """Every entry of the int array `array` is within 0..limit-1 (indices MuJoCo follows)."""
     if array.size and (array.min() < 0 or array.max() >= limit):
-        raise ValueError(f"{name} holds indices outside 0..{limit - 1}")
+        detail = f"{name} holds indices outside 0..{limit - 1}"
+        raise ValueError(detail) if message is None else with_note(ValueError(message), detail)
 
 
 def csr(rownnz, rowadr, colind, nnz, ncol, names=("rownnz", "rowadr", "colind")):
@@ -474,6 +560,20 @@ def band_size(ntotal, nband, ndense):
         raise ValueError(f"need ndense <= ntotal and nband <= ntotal - ndense, got "
                          f"ntotal={ntotal}, nband={nband}, ndense={ndense}")
     return (ntotal - ndense) * nband + ndense * ntotal
+
+
+def fill(out, pointer, count):
+    """`out` holding the `count` values at `pointer` (copied unless it is `out` itself).
+
+    mj_readCtrl and mj_readSensor return a pointer into mjData, or NULL after
+    writing into `out`; either way the value ends in `out`, as in the official
+    bindings, which return it.
+    """
+    if pointer != NULL:
+        target = _from_buffer(ffi.typeof(pointer), out)
+        if target != pointer:
+            ffi.memmove(target, pointer, count * ffi.sizeof(ffi.typeof(pointer).item))
+    return out
 
 
 def copy_array(pointer, count, elem):

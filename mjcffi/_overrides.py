@@ -5,7 +5,7 @@ codegen/functions.py's OVERRIDES table says why each is here.  They follow
 the official bindings' documented Python signatures where those exist, and
 return the hand-written MjModel/MjData classes where MuJoCo returns a new
 mjModel/mjData.  Each docstring holds the Python notes only: mjcffi/functions.py
-puts the header's doc comment above it.
+puts the signature line (SIGNATURES) and the header's doc comment above it.
 
 Like the generated functions they call only guarded C functions, so that a
 mju_error raises FatalError.
@@ -21,16 +21,46 @@ from ._library import ffi, lib
 __all__ = ["mj_step", "mj_forward", "mj_loadXML", "mj_loadModel", "mj_loadModelBuffer",
            "mj_compile", "mj_copyModel", "mj_embedAssets", "mj_makeData", "mj_defaultVFS",
            "mj_deleteVFS", "mj_loadTexture", "mj_saveXMLString", "mj_printSchema",
-           "mjs_getDouble", "mjr_findRect"]
+           "mjs_getDouble", "mjr_findRect", "mju_getXMLDependencies", "mju_getLogConfig"]
 
 _step = lib.mjcffi_step
 
+_M, _D = "mujoco._structs.MjModel", "mujoco._structs.MjData"
+_VFS, _SPEC = "mujoco._structs.MjVFS", "mujoco._structs.MjSpec"
+
+# The first line of each docstring, in the official bindings' shape (the
+# signature); mjcffi/functions.py puts the header's doc comment after it.
+SIGNATURES = {
+    "mj_step": f"mj_step(m: {_M}, d: {_D}, nstep: int = 1) -> None",
+    "mj_forward": f"mj_forward(m: {_M}, d: {_D}) -> None",
+    "mj_loadXML": f"mj_loadXML(filename: str, vfs: {_VFS} | None = None) -> {_M}",
+    "mj_loadModel": f"mj_loadModel(filename: str, vfs: {_VFS} | None = None) -> {_M}",
+    "mj_loadModelBuffer": f"mj_loadModelBuffer(buffer: bytes) -> {_M}",
+    "mj_compile": f"mj_compile(s: {_SPEC}, vfs: {_VFS} | None = None) -> {_M}",
+    "mj_copyModel": f"mj_copyModel(dest: {_M} | None, src: {_M}) -> {_M}",
+    "mj_embedAssets": f"mj_embedAssets(m: {_M}) -> {_M}",
+    "mj_makeData": f"mj_makeData(m: {_M}) -> {_D}",
+    "mj_defaultVFS": f"mj_defaultVFS(vfs: {_VFS}) -> None",
+    "mj_deleteVFS": f"mj_deleteVFS(vfs: {_VFS}) -> None",
+    "mj_loadTexture": f"mj_loadTexture(m: {_M}, id: int) -> tuple[numpy.typing.NDArray["
+                      "numpy.uint8], int]",
+    "mj_saveXMLString": f"mj_saveXMLString(s: {_SPEC}) -> str",
+    "mj_printSchema": "mj_printSchema(flg_html: bool, flg_pad: bool) -> str",
+    "mjs_getDouble": "mjs_getDouble(source: Any) -> numpy.typing.NDArray[numpy.float64]",
+    "mjr_findRect": "mjr_findRect(x: int, y: int, nrect: int, rect: mujoco._structs.MjrRect | "
+                    "list[mujoco._structs.MjrRect]) -> int",
+    "mju_getXMLDependencies": "mju_getXMLDependencies(filename: str) -> list[str]",
+    "mju_getLogConfig": "mju_getLogConfig() -> mujoco._structs.MjLogConfig",
+}
+
 
 def mj_step(m, d, nstep=1):
-    """Python: `nstep` steps in one call, looped in C under one guard with the GIL
-    released, as in the official bindings.  d must be made for m (or a model of
-    the same sizes).  With mjcffi.set_warnings_as_errors(True), a MuJoCo warning
-    during the call raises MjWarningError."""
+    """Optionally, repeat nstep times.
+
+    Python: the `nstep` steps loop in C under one guard with the GIL released.
+    d must be made for m (or a model of the same sizes).  With
+    mjcffi.set_warnings_as_errors(True), a MuJoCo warning during the call raises
+    MjWarningError."""
     try:                                 # the hot path: d made for m, no warnings check
         fast = d._model is m and not _warnings._enabled
     except AttributeError:
@@ -262,3 +292,75 @@ def mjr_findRect(x, y, nrect, rect):
         raise _m.scalar_error(exc, "mjr_findRect", {"x": ("int", x), "y": ("int", y)}) from None
     _m.check_error()
     return ret
+
+
+# ------------------------------------------------------------ string lists
+
+def mju_getXMLDependencies(filename):
+    """Python: returns the files as a list of str, as the official bindings; FatalError
+    if MuJoCo cannot read the model."""
+    c_filename = _m.text(filename, "filename")
+    spec = ffi.gc(lib.mj_makeSpec(), lib.mj_deleteSpec)
+    strings = _string_vec(spec)             # an mjStringVec that the spec owns
+    _m.check(lib.mjcffi_guard_mju_getXMLDependencies(c_filename, strings))
+    return _read_strings(strings)
+
+
+def _string_vec(spec):
+    """An empty mjStringVec owned by `spec` (a texture's cubefiles): the C API makes none."""
+    strings = lib.mjs_addTexture(spec, _m.NULL).cubefiles
+    lib.mjs_setStringVec(strings, b"")
+    return strings
+
+
+_STRING_LAYOUT: list = []   # the std::string layout of libmujoco, once checked
+
+
+def _read_strings(strings):
+    """The entries of an mjStringVec (a C++ std::vector<std::string>) as str.
+
+    The C API can write these vectors but not read them.  libmujoco is built
+    with libc++, whose vector is (begin, end, capacity) and whose strings are
+    24 bytes; the layout is checked once on strings MuJoCo itself wrote, and
+    anything else raises NotImplementedError rather than read memory blindly.
+    """
+    if not _STRING_LAYOUT:
+        _STRING_LAYOUT.append(_check_layout())
+    begin, end = ffi.cast("uintptr_t *", strings)[0:2]
+    return [_libcxx_string(begin + i).decode("utf-8", "replace")
+            for i in range(0, end - begin, 24)]
+
+
+def _libcxx_string(address):
+    """The bytes of the libc++ std::string at `address`: short (size in the first
+    byte, doubled) or long (capacity with its low bit set, size, data pointer)."""
+    words = ffi.cast("uintptr_t *", address)
+    if words[0] & 1:
+        return ffi.unpack(ffi.cast("char *", words[2]), words[1])
+    raw = ffi.cast("unsigned char *", address)
+    return ffi.unpack(ffi.cast("char *", address + 1), raw[0] >> 1)
+
+
+def _check_layout():
+    """Check `_libcxx_string` on a short and a long string that MuJoCo stores.
+
+    Nothing is dereferenced until the vector's size and the short string, which
+    lies inline, have matched: another layout raises, it does not crash."""
+    short, long = b"short", b"a string longer than the twenty-two bytes kept inline"
+    spec = ffi.gc(lib.mj_makeSpec(), lib.mj_deleteSpec)
+    strings = _string_vec(spec)
+    lib.mjs_appendString(strings, short)
+    lib.mjs_appendString(strings, long)
+    begin, end = ffi.cast("uintptr_t *", strings)[0:2]
+    inline = ffi.buffer(ffi.cast("char *", begin), 24)[:]
+    if end - begin != 48 or inline[0] != 2 * len(short) or \
+            inline[1:1 + len(short)] != short or _libcxx_string(begin + 24) != long:
+        raise NotImplementedError("mju_getXMLDependencies: this libmujoco's std::string "
+                                  "layout is not libc++'s, which mjcffi reads")
+    return True
+
+
+def mju_getLogConfig():
+    """Python: a copy, of the public class mjcffi.MjLogConfig (so it has set())."""
+    from .log_config import MjLogConfig     # the hand-written layer: imported on use
+    return MjLogConfig.get()

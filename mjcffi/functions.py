@@ -2,9 +2,12 @@
 
 Most are generated (mjcffi/_functions.py); the few whose documented Python
 signature differs from C are hand-written (mjcffi/_overrides.py) and take
-their place here, with the header's doc comment above their own notes.
+their place here, with the docstring in the generated ones' shape: the
+signature line, the header's doc comment, then their own notes.
 `mjcffi` itself resolves a function name through this module on first use.
 """
+
+import inspect
 
 from . import _functions, _funcinfo, _overrides
 
@@ -12,10 +15,12 @@ NAMES = tuple(_funcinfo.FUNCTIONS)
 
 
 def _document(function, name):
-    """Put the header's doc comment above a hand-written function's own notes."""
+    """A hand-written function's docstring in the generated ones' shape: its
+    signature line, the header's doc comment, then its own notes."""
     header = _funcinfo.FUNCTIONS[name].doc
-    own = function.__doc__
-    function.__doc__ = header + ("\n\n" + own if own else "")
+    own = inspect.cleandoc(function.__doc__ or "")
+    function.__doc__ = (_overrides.SIGNATURES[name] + "\n\n" + header + "\n"
+                        + ("\n" + own + "\n" if own else ""))
     return function
 
 

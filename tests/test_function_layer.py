@@ -67,8 +67,11 @@ def test_every_function_is_there_with_its_header_doc():
     for name, info in FUNCTIONS.items():
         func = getattr(F, name)
         assert callable(func), name
-        assert func.__doc__ and func.__doc__.startswith(info.doc.splitlines()[0] if info.doc
-                                                         else "(no header comment)"), name
+        # the official shape: the signature line, then the header's doc comment
+        signature, _, rest = func.__doc__.partition("\n\n")
+        assert signature.startswith(name + "("), name
+        assert rest.startswith(info.doc.splitlines()[0] if info.doc
+                               else "(no header comment)"), name
 
 
 def test_python_names_are_the_headers():
@@ -94,7 +97,7 @@ def test_unsupported_functions_say_why():
 
 def test_overrides_keep_header_doc_and_add_python_notes():
     for name in table.OVERRIDES:
-        doc = getattr(F, name).__doc__
+        doc = getattr(F, name).__doc__.partition("\n\n")[2]      # after the signature
         assert doc.startswith(FUNCTIONS[name].doc.splitlines()[0]), name
         assert "Python:" in doc, name
 
@@ -128,9 +131,9 @@ def test_sizes_are_deduced_and_outputs_written_in_place():
     transposed = np.zeros((3, 2))
     F.mju_transpose(transposed, mat)
     assert np.array_equal(transposed, mat.T)
-    flat = np.zeros(6)                    # a flat array of the right size is accepted
-    F.mju_transpose(flat, mat)
-    assert np.array_equal(flat, mat.T.ravel())
+    flat = np.zeros(6)                    # flat is a (6, 1) matrix, as in the official
+    with pytest.raises(TypeError, match="#columns in res should equal #rows in mat"):
+        F.mju_transpose(flat, mat)
     ints = np.array([3, 1, 2], np.int32)
     F.mju_insertionSortInt(ints)
     assert ints.tolist() == [1, 2, 3]
@@ -281,7 +284,9 @@ def test_vector_and_quaternion_ops_match_official(mujoco):
         mujoco.mju_mulMatVec(theirs, mat, a)
         assert np.array_equal(ours, theirs)
     quat = np.zeros(4)
-    F.mju_mat2Quat(quat, np.eye(3))                      # (3, 3) for mat[9]: same size
+    F.mju_mat2Quat(quat, np.eye(3).ravel())              # mat[9] is flat (or (9, 1))
+    with pytest.raises(TypeError):
+        F.mju_mat2Quat(quat, np.eye(3))                  # (3, 3): refused, as officially
     assert quat.tolist() == [1, 0, 0, 0]
 
 
