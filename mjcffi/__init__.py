@@ -12,6 +12,7 @@ loads on first use, so that `import mjcffi` stays cheap.
 
 import importlib
 
+from . import _aliases
 from ._constants import *  # noqa: F401,F403
 from ._enums import *  # noqa: F401,F403
 from ._errors import FatalError  # noqa: F401
@@ -22,6 +23,7 @@ __version__ = "0.1.0"
 # public name -> module that defines it, imported on first use
 _LAZY = {
     "MJTNUM_DTYPE": "._views", "MJTNUM_BYTES": "._views",   # NumPy loads on first use
+    "ArgumentError": "._marshal", "IdError": "._marshal",   # bad arguments of the functions
     "MjModel": ".model",
     "MjData": ".data",
     "MjWarningError": ".warning_errors",
@@ -36,6 +38,19 @@ _LAZY = {
     "set_mjcb_act_dyn": ".callbacks", "get_mjcb_act_dyn": ".callbacks",
     "set_mjcb_act_gain": ".callbacks", "get_mjcb_act_gain": ".callbacks",
     "set_mjcb_act_bias": ".callbacks", "get_mjcb_act_bias": ".callbacks",
+    "install_timer": ".callbacks",
+    "set_mju_user_warning": ".user_handlers", "get_mju_user_warning": ".user_handlers",
+    "set_mju_user_malloc": ".user_handlers", "get_mju_user_malloc": ".user_handlers",
+    "set_mju_user_free": ".user_handlers", "get_mju_user_free": ".user_handlers",
+    "MjLogConfig": ".log_config",               # the struct class, with get() and set()
+    "_functions": ".functions",    # the official mujoco._functions: _realloc_con_efc, ...
+    "MjVfs": ".vfs",
+    "HEADERS_DIR": ".plugins", "PLUGINS_DIR": ".plugins",
+    "PLUGIN_HANDLES": ".plugins",                   # reading it loads the bundled plugins
+    "mjDISABLESTRING": "._stringtables", "mjENABLESTRING": "._stringtables",
+    "mjTIMERSTRING": "._stringtables", "mjLABELSTRING": "._stringtables",
+    "mjFRAMESTRING": "._stringtables", "mjVISSTRING": "._stringtables",
+    "mjRNDSTRING": "._stringtables", "mjTOPICSTRING": "._stringtables",
 }
 
 
@@ -52,6 +67,7 @@ def __getattr__(name):
     if module is None and name.startswith("mj"):
         functions = importlib.import_module(".functions", __name__)
         if name in functions.NAMES:
+            _plugins().load_bundled()       # before the first model a function may load
             value = globals()[name] = getattr(functions, name)
             return value
     if module is None:
@@ -63,6 +79,14 @@ def __getattr__(name):
     value = getattr(importlib.import_module(module, __name__), name)
     globals()[name] = value
     return value
+
+
+def _plugins():
+    return importlib.import_module(".plugins", __name__)
+
+
+# `import mujoco.rollout` after `sys.modules['mujoco'] = mjcffi` gives mjcffi.rollout
+_aliases.install()
 
 
 def __dir__():

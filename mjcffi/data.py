@@ -38,6 +38,11 @@ class MjData(NamedAccess, MjDataNames, mjdata.MjData):
         """The MjModel this data was made for."""
         return self._model
 
+    @property
+    def _address(self):
+        """The address of the mjData in memory, as an int (as the official's)."""
+        return int(ffi.cast("uintptr_t", self._ptr))
+
     def _adopt_copy(self, model):
         """A new MjData for `model` holding a copy of this one (mj_copyData)."""
         root = guarded_result(lib.mjcffi_guard_mj_copyData, ffi.NULL, model._ptr, self._ptr)
@@ -64,8 +69,16 @@ def _unpickle(model, header, buffer, arena):
     """Rebuild an MjData from its pickled bytes (mjcffi_restore_data moves its
     pointers onto the new data's own memory)."""
     data = MjData(model)
-    if len(header) != _SIZE or len(buffer) != data._ptr.nbuffer:
+    p = data._ptr
+    if len(header) != _SIZE or len(buffer) != p.nbuffer:
         raise ValueError("pickled MjData does not fit its model (struct or buffer sizes differ)")
-    if lib.mjcffi_restore_data(data._ptr, header, buffer, arena, len(arena)):
+    # The plugin instances that mj_makeData just made stay this data's own: the
+    # pickled addresses belong to the original data (or to another process), and
+    # two datas holding one instance would both free it.  Plugin state proper
+    # (plugin_state) is in the buffer and is restored.
+    instances = [p.plugin_data[i] for i in range(p.nplugin)]
+    if lib.mjcffi_restore_data(p, header, buffer, arena, len(arena)):
         raise ValueError("pickled MjData does not fit its model (buffer or arena sizes differ)")
+    for i, address in enumerate(instances):
+        p.plugin_data[i] = address
     return data

@@ -5,7 +5,8 @@ adds what MuJoCo cannot say in a header: how a model is loaded, copied and
 pickled.
 """
 
-from . import _loading
+from . import _loading, plugins
+from . import vfs as _vfs
 from ._library import ffi, lib
 from ._views import guarded_result
 from .callbacks import _track
@@ -31,19 +32,31 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
         return self
 
     @classmethod
-    def from_xml_string(cls, xml, assets=None):
-        """Compile a model from MJCF/URDF text; `assets` maps file names to bytes."""
-        return cls._from_root(_loading.load_xml_string(xml, assets))
+    def from_xml_string(cls, xml, assets=None, vfs=None):
+        """Compile a model from MJCF/URDF text.
+
+        Other files it names come from the disk, from `assets` (a dict of file
+        name -> bytes) or from `vfs` (an MjVfs), not both.
+        """
+        with _vfs.using(vfs, assets) as pointer:
+            return cls._from_root(_loading.load_xml_string(xml, assets, pointer))
 
     @classmethod
-    def from_xml_path(cls, filename, assets=None):
-        """Compile the MJCF/URDF file `filename`; `assets` maps file names to bytes."""
-        return cls._from_root(_loading.load_xml_path(filename, assets))
+    def from_xml_path(cls, filename, assets=None, vfs=None):
+        """Compile the MJCF/URDF file `filename`, which may be a file of `vfs`.
+
+        Other files it names come from the disk, from `assets` (a dict of file
+        name -> bytes) or from `vfs` (an MjVfs), not both.
+        """
+        with _vfs.using(vfs, assets) as pointer:
+            return cls._from_root(_loading.load_xml_path(filename, assets, pointer))
 
     @classmethod
-    def from_binary_path(cls, filename, assets=None):
-        """Load an MJB file saved by mj_saveModel; `assets` maps file names to bytes."""
-        return cls._from_root(_loading.load_binary_path(filename, assets))
+    def from_binary_path(cls, filename, assets=None, vfs=None):
+        """Load an MJB file saved by mj_saveModel; `filename` may name a file of
+        `assets` (a dict of file name -> bytes) or of `vfs` (an MjVfs)."""
+        with _vfs.using(vfs, assets) as pointer:
+            return cls._from_root(_loading.load_binary_path(filename, assets, pointer))
 
     def to_bytes(self):
         """This model as MJB bytes (mj_saveModel), as `from_bytes` reads them."""
@@ -57,10 +70,16 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
         """A model from MJB bytes, such as `to_bytes` returns."""
         if not isinstance(mjb, (bytes, bytearray, memoryview)):
             raise TypeError(f"mjb must be bytes, not {type(mjb).__name__}")
+        plugins.load_bundled()          # a pickled model may use them
         root = guarded_result(lib.mjcffi_guard_mj_loadModelBuffer, bytes(mjb), len(mjb))
         if root == ffi.NULL:
             raise ValueError("MuJoCo could not load these bytes as an MJB model of MuJoCo 4.0")
         return cls._from_root(ffi.gc(root, lib.mj_deleteModel))
+
+    @property
+    def _address(self):
+        """The address of the mjModel in memory, as an int (as the official's)."""
+        return int(ffi.cast("uintptr_t", self._ptr))
 
     def __copy__(self):
         root = guarded_result(lib.mjcffi_guard_mj_copyModel, ffi.NULL, self._ptr)

@@ -53,8 +53,25 @@ def test_bad_xml_argument(bad, error):
 def test_bad_assets():
     with pytest.raises(TypeError, match="asset 'mesh.obj' must be bytes"):
         _loading.load_xml_string(GOOD_XML, assets={"mesh.obj": "text"})
-    with pytest.raises(ValueError, match="reserved"):
-        _loading.load_xml_string(GOOD_XML, assets={"model.xml": b""})
+    with pytest.raises(TypeError, match="asset name must be a str"):
+        _loading.load_xml_string(GOOD_XML, assets={3: b""})
+    with pytest.raises(ValueError, match="Repeated file name in assets dict: mesh.obj"):
+        _loading.load_xml_string(GOOD_XML, assets={"a/mesh.obj": b"", "b/MESH.obj": b""})
+
+
+def test_messages_are_mujocos_own_text():
+    # as the official binding's: MuJoCo's text unchanged, its final newline included
+    with pytest.raises(ValueError) as info:
+        _loading.load_xml_string('<mujoco><worldbody><geom bogus="1"/></worldbody></mujoco>')
+    assert str(info.value) == ("XML Error: Schema violation: unrecognized attribute: 'bogus'\n"
+                               "Element 'geom', line 1\n")
+
+
+def test_a_failed_mjb_load_has_the_official_message_and_a_note(tmp_path):
+    with pytest.raises(ValueError) as info:
+        _loading.load_binary_path(tmp_path / "missing.mjb")
+    assert str(info.value) == "mj_loadModel: failed to load from mjb"
+    assert "missing.mjb" in info.value.__notes__[0]
 
 
 def test_assets_go_through_the_vfs():
