@@ -49,6 +49,10 @@ mjBatch is freed (mjb_deleteBatch) when its last view and the Batch are gone.
 mjb_apply (mjcffi/_batchfuncs.c), on the batch's threads without the GIL;
 an error inside them shows in `status` and `error()` like any other call's.
 
+Each call goes through `b._b` (mjcffi/_batch.py), the lower layer that owns
+the mjBatch, as the official Batch's `_b` does: it takes ids and arrays in
+their final dtypes and shapes, converts nothing, and checks what keeps C safe.
+
 By default an mjData serves many simulations, so only the fields a call
 computes are meaningful; `persistent=True` keeps one mjData per simulation
 (and is required for models with sleep or IPC enabled).  Physics callbacks
@@ -58,17 +62,19 @@ computes are meaningful; `persistent=True` keeps one mjData per simulation
 
 import copy
 import difflib
-import operator
 
 import numpy as np
 from numpy.lib.stride_tricks import as_strided
 
-from . import callbacks as _callbacks
-from ._constants import mjNGROUP
-from ._enums import mjtStage, mjtState, mjtWarning
-from ._errors import FatalError, check, raise_pending
-from ._library import ffi, lib
-from ._views import DTYPES, view
+from . import _batch
+from ._batch import DATA_FIELDS, MODEL_FIELDS, RECORD_FIELDS
+from ._batch import STATE_FIELDS as _STATE_FIELDS
+from ._batch import data_template as _template
+from ._batch import integer as _integer
+from ._enums import mjtStage, mjtState
+from ._errors import with_note
+from ._library import lib
+from ._views import DTYPES
 from .data import MjData
 from .model import MjModel
 
@@ -77,25 +83,6 @@ __all__ = ["Batch", "SimulationError", "DATA_FIELDS", "MODEL_FIELDS"]
 _NUM = DTYPES["mjtNum"]
 _INT = DTYPES["int"]
 _INT_MAX = 2**31 - 1
-
-# MjData fields held in the state rows, by their mjtState component
-_STATE_FIELDS = {
-    "time": mjtState.mjSTATE_TIME,
-    "qpos": mjtState.mjSTATE_QPOS,
-    "qvel": mjtState.mjSTATE_QVEL,
-    "act": mjtState.mjSTATE_ACT,
-    "history": mjtState.mjSTATE_HISTORY,
-    "qacc_warmstart": mjtState.mjSTATE_WARMSTART,
-    "ctrl": mjtState.mjSTATE_CTRL,
-    "qfrc_applied": mjtState.mjSTATE_QFRC_APPLIED,
-    "xfrc_applied": mjtState.mjSTATE_XFRC_APPLIED,
-    "eq_active": mjtState.mjSTATE_EQ_ACTIVE,
-    "mocap_pos": mjtState.mjSTATE_MOCAP_POS,
-    "mocap_quat": mjtState.mjSTATE_MOCAP_QUAT,
-    "userdata": mjtState.mjSTATE_USERDATA,
-    "plugin_state": mjtState.mjSTATE_PLUGIN,
-    "plastic": mjtState.mjSTATE_PLASTIC,
-}
 
 # the Batch method -> mjcffi's name category, and whether MjData has a side
 _NAMED = {
@@ -107,9 +94,7 @@ _NAMED = {
 }
 
 # what holds the mjBatch: dropped by close()
-_HELD = ("_ptr", "_root", "_state_ptr", "state", "warning", "status")
-
-_APPLY_SIGNATURE = "mjfBatchFunc"
+_HELD = ("_b", "state", "warning", "status")
 
 
 class SimulationError(RuntimeError):
@@ -140,39 +125,22 @@ class Batch:
     """
 
     def __init__(self, model, nsim, nthread=0, persistent=False):
-        if not isinstance(model, MjModel):
-            raise TypeError(f"model must be an MjModel, not {type(model).__name__}")
-        nsim = _integer(nsim, "nsim")
-        nthread = _integer(nthread, "nthread")
-        if not 0 < nsim <= _INT_MAX:
-            raise ValueError(f"nsim must be positive (at most {_INT_MAX}), got {nsim}")
-        if not -_INT_MAX <= nthread <= _INT_MAX:
-            raise ValueError(f"nthread must fit an int (0 or less: one per CPU), got {nthread}")
-        _check_callbacks()     # mj_makeData may already run the physics
-        root = _make(model._ptr, nsim, nthread, bool(persistent))
+        b = _batch.Batch(model, nsim, nthread, persistent)    # checks the arguments
         set_ = object.__setattr__
         set_(self, "model", model)
-        set_(self, "_root", root)
-        set_(self, "_ptr", root)
-        set_(self, "_nsim", nsim)
-        set_(self, "_nthread", lib.mjb_nthread(root))
-        set_(self, "_persistent", bool(lib.mjb_persistent(root)))
-        set_(self, "_nstate", lib.mjb_nstate(root))
-        set_(self, "_models", None)          # caller models (set_models), kept alive
-        set_(self, "_model_array", None)     # their pointers, which MuJoCo reads
+        set_(self, "_b", b)                  # the lower layer, as the official's _b
+        set_(self, "_nsim", b.nsim)
+        set_(self, "_nthread", b.nthread)
+        set_(self, "_persistent", b.persistent)
+        set_(self, "_nstate", b.nstate)
+        set_(self, "_models", None)          # caller models (set_models)
         set_(self, "_nkey", model.nkey)      # keyframes reset() accepts
         set_(self, "_bound", {})             # output name -> (nsim, ...) array
         set_(self, "_expanded", {})          # expanded name -> (nsim, ...) array
         set_(self, "_slices", {})            # (category, id, attr) -> a stable named slice
-        set_(self, "_template", None)        # an MjData of the model, for shapes
-        state_ptr = lib.mjb_state(root)
-        set_(self, "_state_ptr", state_ptr)
-        set_(self, "state", view(state_ptr, _NUM, (nsim, self._nstate), root))
-        warning = ffi.cast("int *", lib.mjb_warning(root))
-        set_(self, "warning", view(warning, _INT, (nsim, mjtWarning.mjNWARNING, 2), root))
-        status = view(ffi.cast("int *", lib.mjb_status(root)), _INT, (nsim,), root)
-        status.flags.writeable = False
-        set_(self, "status", status)
+        set_(self, "state", b.state())
+        set_(self, "warning", b.warning())
+        set_(self, "status", b.status())
 
     # ------------------------------------------------------------ attributes
 
@@ -181,7 +149,7 @@ class Batch:
         state = self.__dict__
         if state.get("_closed") and (name in _HELD or name in DATA_FIELDS):
             raise ValueError("this Batch is closed")
-        if name.startswith("_") or "_root" not in state:
+        if name.startswith("_") or "_b" not in state:
             raise AttributeError(f"'Batch' object has no attribute {name!r}")
         if name in DATA_FIELDS:
             value = self.bind(name)
@@ -239,11 +207,7 @@ class Batch:
     @property
     def _data(self):
         """An MjData of the model, for the shapes and dtypes of its fields."""
-        template = self.__dict__["_template"]
-        if template is None:
-            template = MjData(self.model)
-            object.__setattr__(self, "_template", template)
-        return template
+        return self._b.data_template()
 
     def close(self):
         """Let go of the batch: later calls raise ValueError.
@@ -267,8 +231,7 @@ class Batch:
 
     def error(self, sim):
         """The message of the error simulation `sim` raised in its last call, or ''."""
-        sim = self._sim(sim)
-        return ffi.string(lib.mjb_error(self._ptr, sim)).decode("utf-8", "replace")
+        return self._b.error(sim)
 
     # ------------------------------------------------------ fields of MjData
 
@@ -294,34 +257,18 @@ class Batch:
             self._bound[name] = out
             return out
         template = _template(self._data, name) if isinstance(name, str) else None
-        if template is None:
+        raw = None if template is None else self._b.output(name)
+        if raw is None:
             raise _not_bindable(self._data, name)
-        size, elemsize = ffi.new("int *"), ffi.new("int *")
-        pointer = lib.mjcffi_guard_mjb_output(self._ptr, name.encode(), size, elemsize)
-        raise_pending()
-        if pointer == ffi.NULL:
-            raise _not_bindable(self._data, name)
-        out = self._storage(pointer, size[0], elemsize[0], template, name)
+        out = _typed(raw, template, name)
         out.flags.writeable = False      # the next call would overwrite a write
         self._bound[name] = out
         return out
 
     def _component(self, component):
         """The (nsim, size) view of the rows holding one mjtState component."""
-        size = ffi.new("int *")
-        start = lib.mjcffi_guard_mjb_stateComponent(self._ptr, int(component), size)
-        raise_pending()
-        offset = start - self._state_ptr
-        return self.state[:, offset:offset + size[0]]
-
-    def _storage(self, pointer, size, elemsize, template, name):
-        """An (nsim, *template.shape) view of per-simulation storage at `pointer`."""
-        dtype = template.dtype
-        if elemsize != dtype.itemsize and size:
-            raise RuntimeError(f"{name}: MuJoCo stores {elemsize}-byte elements, "
-                               f"not {dtype}")
-        flat = view(ffi.cast("char *", pointer), dtype, (self._nsim, size), self._root)
-        return _per_simulation(flat, template)
+        offset, size = self._b.state_component(component)
+        return self.state[:, offset:offset + size]
 
     # ----------------------------------------------------- fields of MjModel
 
@@ -339,14 +286,12 @@ class Batch:
         if out is not None:
             return out
         template = _model_template(self.model, name) if isinstance(name, str) else None
-        if template is None or name not in MODEL_FIELDS:
+        raw = None
+        if template is not None and name in MODEL_FIELDS:
+            raw = self._b.expand(name)
+        if raw is None:
             raise _not_expandable(self.model, name)
-        size, elemsize = ffi.new("int *"), ffi.new("int *")
-        pointer = lib.mjcffi_guard_mjb_expand(self._ptr, name.encode(), size, elemsize)
-        raise_pending()
-        if pointer == ffi.NULL:
-            raise _not_expandable(self.model, name)
-        out = self._storage(pointer, size[0], elemsize[0], template, name)
+        out = _typed(raw, template, name)
         self._expanded[name] = out
         return out
 
@@ -358,13 +303,10 @@ class Batch:
         """
         if name not in MODEL_FIELDS:
             raise _not_expandable(self.model, name)
-        size, elemsize = ffi.new("int *"), ffi.new("int *")
-        pointer = lib.mjcffi_guard_mjb_expanded(self._ptr, name.encode(), size, elemsize)
-        raise_pending()
-        if pointer == ffi.NULL:
+        raw = self._b.expanded(name)
+        if raw is None:
             return None
-        out = self._storage(pointer, size[0], elemsize[0], _model_template(self.model, name),
-                            name)
+        out = _typed(raw, _model_template(self.model, name), name)
         out.flags.writeable = False      # set_const() overwrites derived values
         return out
 
@@ -374,11 +316,7 @@ class Batch:
         The fields it changes become per-simulation, as with expand().
         """
         ids = _ids(ids, self._nsim)
-        pointer, count = _selection(ids)
-        if count < 0:
-            return
-        _check_callbacks()
-        self._finish(ids, lib.mjcffi_guard_mjb_setConst(self._ptr, pointer, count))
+        self._check(ids, self._b.set_const(ids))
 
     # ------------------------------------------------------------- the calls
 
@@ -393,31 +331,15 @@ class Batch:
         mjSTAGE_ACC runs mj_forward.
         """
         # the hot path of a batch loop: kept to the bare checks
-        if ids is None:
-            pointer, count = _NULL, 0
-        else:
+        if ids is not None:
             ids = _ids(ids, self._nsim)
-            pointer, count = _selection(ids)
-            if count < 0:
-                return
-        if not (_S0.fn is None and _S1.fn is None and _S2.fn is None and _S3.fn is None
-                and _S4.fn is None and _S5.fn is None and _S6.fn is None and _S7.fn is None):
-            _check_callbacks()
-        failed = _guard_step(self._ptr, pointer, count, nstep, stage)
-        message = _take_error()          # raise_pending(), inlined
-        if message != _NULL:
-            raise FatalError(ffi.string(message).decode("utf-8", "replace"))
-        if failed:
+        if self._b.step(ids, nstep, stage):
             self._fail(ids)
 
     def forward(self, ids=None, stage=mjtStage.mjSTAGE_ACC):
         """Compute the forward stages up to `stage` (mjtStage); by default mj_forward."""
         ids = _ids(ids, self._nsim)
-        pointer, count = _selection(ids)
-        if count < 0:
-            return
-        _check_callbacks()
-        self._finish(ids, lib.mjcffi_guard_mjb_forward(self._ptr, pointer, count, stage))
+        self._check(ids, self._b.forward(ids, stage))
 
     def reset(self, ids=None, keyframe=-1, stage=mjtStage.mjSTAGE_ACC):
         """Reset to the model's defaults or to keyframes, then compute stages.
@@ -428,15 +350,9 @@ class Batch:
         reset followed by writes to the state and forward().
         """
         ids = _ids(ids, self._nsim)
-        pointer, count = _selection(ids)
-        if count < 0:
-            return
-        n = self._nsim if ids is None else count
+        n = self._nsim if ids is None else ids.size
         key = _int32(keyframe, (n,), -1, self._nkey, "keyframe")
-        key_pointer = ffi.NULL if (key == -1).all() else ffi.from_buffer("int[]", key)
-        _check_callbacks()
-        self._finish(ids, lib.mjcffi_guard_mjb_reset(self._ptr, pointer, count, key_pointer,
-                                                     stage))
+        self._check(ids, self._b.reset(ids, None if (key == -1).all() else key, stage))
 
     def rollout(self, nstep, control=None, control_spec=mjtState.mjSTATE_CTRL,
                 record=("qpos",), ids=None, out=None):
@@ -455,37 +371,29 @@ class Batch:
         """
         nstep = _integer(nstep, "nstep")
         if not 0 < nstep <= _INT_MAX:
-            raise ValueError(f"nstep must be positive, got {nstep}")
+            raise with_note(ValueError("nstep must be positive"), f"got {nstep}")
         ids = _ids(ids, self._nsim)
-        pointer, count = _selection(ids)
-        n = self._nsim if ids is None else max(count, 0)
+        n = self._nsim if ids is None else ids.size
         m = self.model._ptr
         control_spec = _integer(control_spec, "control_spec")
         if control_spec & ~int(mjtState.mjSTATE_USER) or control_spec < 0:
             raise ValueError(f"control_spec must be a subset of mjSTATE_USER, got {control_spec}")
-        control_pointer = ffi.NULL
         if control is not None:
             shape = (n, nstep, lib.mj_stateSize(m, control_spec))
             control = _broadcast(control, shape, _NUM, "control")
-            control_pointer = ffi.from_buffer("mjtNum[]", control)
         given = {} if out is None else out
-        result, keep = {}, []
-        records = ffi.new("mjBatchRecord[]", max(len(record), 1))
-        for k, item in enumerate(record):
+        result, records = {}, []
+        for item in record:
             if isinstance(item, str):
                 if item not in RECORD_FIELDS:
                     raise _not_recordable(self._data, item)
                 template = _template(self._data, item)
                 shape, dtype = (n, nstep, *template.shape), template.dtype
-                name = ffi.new("char[]", item.encode())
-                keep.append(name)
-                records[k].field = name
             else:
                 spec = _integer(item, "a record spec")
                 if spec < 0 or spec & ~int(mjtState.mjSTATE_INTEGRATION):
                     raise ValueError(f"record spec {spec} is not a set of mjtState bits")
                 shape, dtype = (n, nstep, lib.mj_stateSize(m, spec)), _NUM
-                records[k].spec = spec
             buf = given.get(item)
             if buf is None:
                 buf = np.empty(shape, dtype)
@@ -493,15 +401,9 @@ class Batch:
                   or not buf.flags.c_contiguous or not buf.flags.writeable):
                 raise ValueError(f"out[{item!r}] must be a writable C-contiguous {dtype} array "
                                  f"of shape {shape}")
-            # MuJoCo wants a buffer even for an empty record
-            records[k].buf = ffi.from_buffer(buf if buf.size else _SPARE, require_writable=True)
+            records.append((item, 0, buf) if isinstance(item, str) else (None, spec, buf))
             result[item] = buf
-        if count < 0:
-            return result
-        _check_callbacks()
-        self._finish(ids, lib.mjcffi_guard_mjb_rollout(
-            self._ptr, pointer, count, nstep, control_pointer, control_spec, records,
-            len(record)))
+        self._check(ids, self._b.rollout(ids, nstep, control, control_spec, records))
         return result
 
     def jac(self, body, point, ids=None):
@@ -515,24 +417,12 @@ class Batch:
         Returns jacp and jacr, (n, 3, nv) each.
         """
         ids = _ids(ids, self._nsim)
-        pointer, count = _selection(ids)
-        n = self._nsim if ids is None else max(count, 0)
+        n = self._nsim if ids is None else ids.size
         nv = self.model.nv
         bodies = _int32(body, (n,), 0, self.model.nbody, "body")
         point = _broadcast(point, (n, 3), _NUM, "point")
         jacp, jacr = np.zeros((n, 3, nv), _NUM), np.zeros((n, 3, nv), _NUM)
-        if count >= 0:
-            rows = self._rows(ids)
-            arg = ffi.new("mjcffi_batch_jac_arg *")
-            # the cdata below keep their arrays alive until mjb_apply returns
-            body_ = ffi.from_buffer("int[]", bodies)
-            point_ = ffi.from_buffer("mjtNum[]", point)
-            jacp_ = ffi.from_buffer("mjtNum[]", jacp)
-            jacr_ = ffi.from_buffer("mjtNum[]", jacr)
-            rows_ = _NULL if rows is None else ffi.from_buffer("int[]", rows)
-            arg.rows, arg.nv, arg.body, arg.point = rows_, nv, body_, point_
-            arg.jacp, arg.jacr = jacp_, jacr_
-            self._apply_native(ids, pointer, count, _BATCH_JAC, arg)
+        self._check(ids, self._b.jac(ids, bodies, point, jacp, jacr))
         return jacp, jacr
 
     def ray(self, pnt, vec, geomgroup=None, flg_static=True, bodyexclude=-1, ids=None,
@@ -548,67 +438,29 @@ class Batch:
         `normal`, also the surface normals, (n, nray, 3), zero for a miss.
         """
         ids = _ids(ids, self._nsim)
-        pointer, count = _selection(ids)
-        n = self._nsim if ids is None else max(count, 0)
+        n = self._nsim if ids is None else ids.size
         pnt = np.atleast_2d(np.asarray(pnt, _NUM))
         vec = np.atleast_2d(np.asarray(vec, _NUM))
         try:
             nray = np.broadcast_shapes(pnt.shape[:-1], vec.shape[:-1])[-1]
-        except ValueError:
-            raise ValueError(f"pnt {pnt.shape} and vec {vec.shape} hold different numbers "
-                             "of rays") from None
+        except ValueError as exc:
+            raise with_note(exc, f"pnt {pnt.shape} and vec {vec.shape} hold different numbers "
+                            "of rays") from None
         pnt = _broadcast(pnt, (n, nray, 3), _NUM, "pnt")
         vec = _broadcast(vec, (n, nray, 3), _NUM, "vec")
         exclude = _int32(bodyexclude, (n, nray), -1, self.model.nbody, "bodyexclude")
-        group = ffi.NULL
         if geomgroup is not None:
             geomgroup = np.ascontiguousarray(geomgroup, dtype=np.uint8)
-            if geomgroup.shape != (mjNGROUP,):
-                raise ValueError(f"geomgroup must have shape ({mjNGROUP},), "
-                                 f"got {geomgroup.shape}")
-            group = ffi.from_buffer("mjtByte[]", geomgroup)
         # mj_ray writes every entry, -1 for a miss
         dist, geomid = np.zeros((n, nray), _NUM), np.zeros((n, nray), _INT)
         normals = np.zeros((n, nray, 3), _NUM) if normal else None
-        if count >= 0 and nray:
-            rows = self._rows(ids)
-            arg = ffi.new("mjcffi_batch_ray_arg *")
-            # the cdata below keep their arrays alive until mjb_apply returns
-            pnt_ = ffi.from_buffer("mjtNum[]", pnt)
-            vec_ = ffi.from_buffer("mjtNum[]", vec)
-            exclude_ = ffi.from_buffer("int[]", exclude)
-            dist_ = ffi.from_buffer("mjtNum[]", dist)
-            geomid_ = ffi.from_buffer("int[]", geomid)
-            normals_ = _NULL if normals is None else ffi.from_buffer("mjtNum[]", normals)
-            rows_ = _NULL if rows is None else ffi.from_buffer("int[]", rows)
-            arg.rows, arg.nray, arg.pnt, arg.vec = rows_, nray, pnt_, vec_
-            arg.geomgroup, arg.flg_static, arg.bodyexclude = group, bool(flg_static), exclude_
-            arg.dist, arg.geomid, arg.normal = dist_, geomid_, normals_
-            self._apply_native(ids, pointer, count, _BATCH_RAY, arg)
+        self._check(ids, self._b.ray(ids, pnt, vec, geomgroup, flg_static, exclude, dist,
+                                     geomid, normals))
         return (dist, geomid) if normals is None else (dist, geomid, normals)
 
-    def _rows(self, ids):
-        """Simulation index -> its row in the call's arrays, (nsim,) int32; None for all."""
-        if ids is None:
-            return None
-        rows = np.zeros(self._nsim, np.int32)
-        rows[ids] = np.arange(ids.size, dtype=np.int32)
-        return rows
-
-    def _apply_native(self, ids, pointer, count, func, arg):
-        """Run the C mjfBatchFunc `func` with `arg` on the selected simulations.
-
-        mjb_apply runs it on the batch's threads, the GIL released, and saves
-        nothing.  An mju_error inside it fails that simulation only, in
-        `status` and `error()`, and raises SimulationError here.
-        """
-        _check_callbacks()
-        self._finish(ids, lib.mjcffi_guard_mjb_apply(self._ptr, pointer, count, func, arg, 0))
-
-    def _finish(self, ids, failed):
-        """After a call: FatalError for rejected arguments, SimulationError for failures."""
-        raise_pending()
-        if failed:
+    def _check(self, ids, nfail):
+        """After a call on `ids`: SimulationError if `nfail` simulations failed."""
+        if nfail:
             self._fail(ids)
 
     def _fail(self, ids):
@@ -636,9 +488,7 @@ class Batch:
         sim = self._sim(sim)
         if model is None:
             model = copy.copy(self._model_of(sim))
-        elif not isinstance(model, MjModel):
-            raise TypeError(f"model must be an MjModel, not {type(model).__name__}")
-        check(lib.mjcffi_guard_mjb_getModel(self._ptr, sim, model._ptr))
+        self._b.get_model(sim, model)
         return model
 
     def get_data(self, sim, data=None):
@@ -651,9 +501,7 @@ class Batch:
         sim = self._sim(sim)
         if data is None:
             data = MjData(self.model)
-        elif not isinstance(data, MjData):
-            raise TypeError(f"data must be an MjData, not {type(data).__name__}")
-        check(lib.mjcffi_guard_mjb_getData(self._ptr, sim, data._ptr))
+        self._b.get_data(sim, data)
         return data
 
     def set_models(self, models):
@@ -666,24 +514,9 @@ class Batch:
         set_models raises if fields are expanded, and expand() and
         set_const() raise while models are set.
         """
-        if models is None:
-            array = ffi.NULL
-        else:
-            if isinstance(models, MjModel):
-                each = [models] * self._nsim
-            else:
-                models = list(models)
-                if len(models) != self._nsim:
-                    raise ValueError(f"set_models needs one model or {self._nsim}, one per "
-                                     f"simulation, got {len(models)}")
-                each = models
-            for k, m in enumerate(each):
-                if not isinstance(m, MjModel):
-                    raise TypeError(f"models[{k}] must be an MjModel, not {type(m).__name__}")
-            array = ffi.new("mjModel *[]", [m._ptr for m in each])
-        check(lib.mjcffi_guard_mjb_setModels(self._ptr, array))
-        # only once MuJoCo holds the new pointers may the old ones go
-        object.__setattr__(self, "_model_array", None if models is None else array)
+        if models is not None and not isinstance(models, MjModel):
+            models = list(models)
+        self._b.set_models(models)     # checks them, and keeps them alive for MuJoCo
         object.__setattr__(self, "_models", models)
         if models is None:
             nkey = self.model.nkey
@@ -868,63 +701,7 @@ class _Named:
         return f"<Batch {self._label} {self.name!r} (id {self.id})>"
 
 
-# ------------------------------------------------------------ mjb_apply tasks
-
-# the native tasks of jac() and ray(), in mjcffi/_batchfuncs.c
-_BATCH_JAC = ffi.cast(_APPLY_SIGNATURE, ffi.addressof(lib, "mjcffi_batch_jac"))
-_BATCH_RAY = ffi.cast(_APPLY_SIGNATURE, ffi.addressof(lib, "mjcffi_batch_ray"))
-
-
 # -------------------------------------------------------------------- helpers
-
-# mjcffi's callback slots: a Python callable installed in one would run on the
-# batch's threads with borrowed wrappers and no simulation to blame, as the
-# official Batch refuses it too.
-_SLOTS = tuple(getattr(_callbacks, name) for name in (
-    "_PASSIVE", "_CONTROL", "_CONTACTFILTER", "_SENSOR", "_TIME", "_ACT_DYN", "_ACT_GAIN",
-    "_ACT_BIAS"))
-
-
-_SPARE = np.zeros(1)      # the buffer of empty records
-
-_S0, _S1, _S2, _S3, _S4, _S5, _S6, _S7 = _SLOTS
-_NULL = ffi.NULL
-_guard_step = lib.mjcffi_guard_mjb_step
-_take_error = lib.mjcffi_take_error
-
-
-def _check_callbacks():
-    """ValueError if a Python callable is installed as a physics callback."""
-    for slot in _SLOTS:
-        if slot.fn is not None and getattr(lib, slot.name) == slot.trampoline:
-            raise ValueError(f"{slot.name} is a Python function; a batch accepts only C "
-                             "callbacks (a cffi or ctypes function pointer)")
-
-
-def _make(model_ptr, nsim, nthread, persistent):
-    """mjb_makeBatch, owned by the returned gc cdata; ValueError with MuJoCo's reason."""
-    config = ffi.new("mjBatchConfig *")
-    lib.mjb_defaultConfig(config)
-    config.nthread = nthread
-    config.persistent = persistent
-    error = ffi.new("char[]", 1024)
-    pointer = lib.mjcffi_guard_mjb_makeBatch(model_ptr, nsim, config, error, len(error))
-    raise_pending()
-    if pointer == ffi.NULL:
-        raise ValueError(ffi.string(error).decode("utf-8", "replace")
-                         or "mjb_makeBatch could not make the batch")
-    return ffi.gc(pointer, lib.mjb_deleteBatch)
-
-
-def _integer(value, name):
-    """`value` as an int, or TypeError naming the argument."""
-    if isinstance(value, (bool, np.bool_)):
-        raise TypeError(f"{name} must be an int, not bool")
-    try:
-        return operator.index(value)
-    except TypeError:
-        raise TypeError(f"{name} must be an int, not {type(value).__name__}") from None
-
 
 def _ids(ids, nsim):
     """Checked int32 simulation ids from ints or a boolean mask; None for all.
@@ -937,11 +714,11 @@ def _ids(ids, nsim):
     ids = np.asarray(ids)
     if ids.dtype == np.bool_:
         if ids.shape != (nsim,):
-            raise ValueError(f"a boolean mask of simulations must have shape ({nsim},), "
-                             f"got {ids.shape}")
+            raise with_note(ValueError(f"a boolean mask must have shape ({nsim},)"),
+                            f"the mask of simulations has shape {ids.shape}")
         return None if ids.all() else np.flatnonzero(ids).astype(np.int32)
     if ids.ndim != 1:
-        raise ValueError(f"ids must be one-dimensional, got shape {ids.shape}")
+        raise with_note(ValueError("ids must be one-dimensional"), f"got shape {ids.shape}")
     if ids.size == 0:
         return np.zeros(0, np.int32)
     if ids.dtype.kind not in "iu":
@@ -956,15 +733,6 @@ def _ids(ids, nsim):
     return np.ascontiguousarray(ids, dtype=np.int32)
 
 
-def _selection(ids):
-    """(pointer, count) for the C call; count -1 for an empty selection (no call)."""
-    if ids is None:
-        return ffi.NULL, 0
-    if not ids.size:
-        return ffi.NULL, -1
-    return ffi.from_buffer("int[]", ids), ids.size
-
-
 def _int32(value, shape, lo, hi, name):
     """Integers in [lo, hi), broadcast to `shape`, checked before narrowing to int32."""
     value = np.asarray(value)
@@ -975,8 +743,8 @@ def _int32(value, shape, lo, hi, name):
         raise ValueError(f"{name} must be in [{lo}, {hi}), got {bad.flat[0]}")
     try:
         return np.ascontiguousarray(np.broadcast_to(value, shape), np.int32)
-    except ValueError:
-        raise ValueError(f"{name} must broadcast to shape {shape}, got {value.shape}") from None
+    except ValueError as exc:
+        raise with_note(exc, f"{name} must broadcast to shape {shape}, got {value.shape}")
 
 
 def _broadcast(value, shape, dtype, name):
@@ -984,9 +752,9 @@ def _broadcast(value, shape, dtype, name):
     value = np.asarray(value, dtype)
     try:
         return np.ascontiguousarray(np.broadcast_to(value, shape))
-    except ValueError:
-        raise ValueError(f"{name} must have shape {shape} (or broadcast to it), "
-                         f"got {value.shape}") from None
+    except ValueError as exc:
+        raise with_note(exc, f"{name} must have shape {shape} (or broadcast to it), "
+                        f"got {value.shape}")
 
 
 def _assign(target, value, name):
@@ -994,7 +762,7 @@ def _assign(target, value, name):
     try:
         target[...] = value
     except (ValueError, TypeError) as exc:
-        raise type(exc)(f"cannot assign to {name} of shape {target.shape}: {exc}") from None
+        raise with_note(exc, f"cannot assign to {name} of shape {target.shape}")
 
 
 def _shaped(rows, shape):
@@ -1005,6 +773,14 @@ def _shaped(rows, shape):
         inner.append(stride)
         stride *= n
     return as_strided(rows, shape, (rows.strides[0], *reversed(inner)))
+
+
+def _typed(raw, template, name):
+    """The (nsim, nbytes) bytes `raw` of per-simulation storage as (nsim, *template.shape)."""
+    if raw.shape[1] % template.dtype.itemsize:
+        raise RuntimeError(f"{name}: MuJoCo stores {raw.shape[1]} bytes per simulation, not a "
+                           f"whole number of {template.dtype} elements")
+    return _per_simulation(raw.view(template.dtype), template)
 
 
 def _per_simulation(flat, template):
@@ -1032,16 +808,6 @@ def _structural(name, part):
     """Whether model field `name` holds addresses, counts, ids or types."""
     return (part.dtype.kind in "iu" and name.endswith(("adr", "num", "id", "type"))
             and not name.endswith("contype"))
-
-
-def _template(data, name):
-    """MjData field `name` as an array (an int count as a 0-d int32), else None."""
-    value = getattr(data, name, None)
-    if isinstance(value, np.ndarray):
-        return value
-    if isinstance(value, int) and not isinstance(value, bool):
-        return np.zeros((), np.int32)
-    return None
 
 
 def _model_template(model, name):
@@ -1074,7 +840,8 @@ def _hint(name, names, expand_hint=False):
 def _not_bindable(data, name):
     """The error for a name bind() refuses; `data` is a template MjData."""
     if not isinstance(name, str):
-        return TypeError(f"a field name must be a str, not {type(name).__name__}")
+        return with_note(TypeError(f"attribute name must be string, not "
+                                   f"'{type(name).__name__}'"), "bind() takes a field name")
     if name in MODEL_FIELDS:
         return ValueError(f"{name} is an MjModel field: use expand({name!r})")
     value = getattr(data, name, None)
@@ -1083,20 +850,28 @@ def _not_bindable(data, name):
                           "and cannot be bound")
     if isinstance(value, int):
         counts = sorted(n for n in DATA_FIELDS if isinstance(getattr(data, n, None), int))
-        return ValueError(f"{name} is not one of the MjData counts bind() accepts: "
+        return ValueError(f"{name} is not one of the MjData scalars bind() accepts: "
                           f"{', '.join(counts)}")
     return ValueError(f"{name} is not an MjData array field" + _hint(name, DATA_FIELDS))
 
 
 def _not_recordable(data, name):
-    """The error for a record item rollout() refuses."""
+    """The error for a record item rollout() refuses: the official message, and ours as a note."""
+    if _template(data, name) is None:
+        error = _not_bindable(data, name)
+    else:
+        error = ValueError(f"unknown field {name}")
     if name in _STATE_FIELDS:
-        return ValueError(f"{name} cannot be recorded by name: record the state spec "
-                          f"mjtState.{_STATE_FIELDS[name].name}")
-    if isinstance(getattr(data, name, None), np.ndarray):
-        return ValueError(f"{name} is in the arena, whose size changes from step to step, "
-                          "and cannot be recorded")
-    return _not_bindable(data, name)
+        return with_note(error, f"{name} cannot be recorded by name: record the state spec "
+                         f"mjtState.{_STATE_FIELDS[name].name}")
+    value = getattr(data, name, None)
+    if isinstance(value, np.ndarray):
+        return with_note(error, f"{name} is in the arena, whose size changes from step to step, "
+                         "and cannot be recorded")
+    if isinstance(value, int):
+        counts = sorted(n for n in RECORD_FIELDS if isinstance(getattr(data, n, None), int))
+        return with_note(error, f"the MjData scalars rollout() records: {', '.join(counts)}")
+    return error
 
 
 def _not_expandable(model, name):
@@ -1115,46 +890,3 @@ def _output_error(name):
     """The error for a write to an output, which every call overwrites."""
     return ValueError(f"{name} is computed by every call and cannot be written; write state "
                       "fields (qpos, ctrl, ...) or expand model fields")
-
-
-def _field_tables():
-    """The names bind(), rollout() and expand() accept, as MuJoCo's own tables decide.
-
-    Probed once on an empty model: mjb_output, mjb_rollout and mjb_expand
-    know their fields by name, whatever the model.
-    """
-    model = MjModel.from_xml_string("<mujoco/>")
-    data = MjData(model)
-    probe = _make(model._ptr, 1, 1, False)
-    public = [n for n in dir(data) if not n.startswith("_")]
-    candidates = [n for n in public if _template(data, n) is not None]
-    data_fields = set(_STATE_FIELDS)
-    record_fields = set()
-    record = ffi.new("mjBatchRecord[1]")
-    for name in candidates:
-        raw = name.encode()
-        if name not in _STATE_FIELDS and \
-                lib.mjcffi_guard_mjb_output(probe, raw, ffi.NULL, ffi.NULL) != ffi.NULL:
-            data_fields.add(name)
-        raise_pending()
-        buf = np.zeros(max(_template(data, name).nbytes, 8), np.uint8)
-        field = ffi.new("char[]", raw)
-        record[0].field, record[0].spec, record[0].buf = field, 0, ffi.from_buffer(buf)
-        lib.mjcffi_guard_mjb_rollout(probe, ffi.NULL, 0, 1, ffi.NULL, 0, record, 1)
-        if lib.mjcffi_take_error() == ffi.NULL:     # an unknown field is an mju_error
-            record_fields.add(name)
-    names = [n for n in dir(model) if not n.startswith("_")
-             and isinstance(getattr(model, n, None), np.ndarray)]
-    names += ["opt." + n for n in dir(model.opt) if not n.startswith("_")
-              and not callable(getattr(model.opt, n))]
-    model_fields = set()
-    for name in names:
-        if lib.mjcffi_guard_mjb_expand(probe, name.encode(), ffi.NULL, ffi.NULL) != ffi.NULL:
-            model_fields.add(name)
-        raise_pending()
-    return frozenset(data_fields), frozenset(record_fields), frozenset(model_fields)
-
-
-# MjData fields bind() accepts, MjData fields rollout() records by name, and
-# MjModel fields expand() accepts
-DATA_FIELDS, RECORD_FIELDS, MODEL_FIELDS = _field_tables()

@@ -34,7 +34,7 @@ import numpy as np
 
 from . import _marshal, callbacks
 from ._enums import mjtState
-from ._errors import FatalError
+from ._errors import FatalError, with_note
 from ._library import ffi, lib
 
 __all__ = ["Rollout", "rollout", "shutdown_persistent_pool"]
@@ -188,9 +188,9 @@ class Rollout:
                                  ("initial_warmstart", initial_warmstart, nv),
                                  ("sensordata", sensordata, nsensordata)):
             if value is not None and value.shape[-1] != dim:
-                raise ValueError(
-                    f"trailing dimension of {name} must be {dim}, got {value.shape[-1]} "
-                    f"(expected shape {_expected(name, nbatch, nstep, dim)})")
+                raise with_note(ValueError(f"trailing dimension of {name} must be {dim}, "
+                                           f"got {value.shape[-1]}"),
+                                f"{name} must have shape {_expected(name, nbatch, nstep, dim)}")
         for name, value, dim in (("state", state, nstate),
                                  ("sensordata", sensordata, nsensordata)):
             if value is not None and value.shape != (nbatch, nstep, dim):
