@@ -26,12 +26,48 @@ class Note(NamedTuple):
     reason: str
 
 
+_MJSPEC = ("mjcffi has no MjSpec yet (model editing, mjspec.h): issue 13 builds it, with "
+           "MjSpec.from_string, compile, attach and the spec-to-model bind")
+
 NOTES = (
+    Note(("bindings_test.py::*::test_timer_installed_by_default",
+          "bindings_test.py::*::test_mjcb_time_restore_default"), DELIBERATE,
+         "mjcffi puts no timer in `mjcb_time` at import, and `set_mjcb_time(None)` clears it. "
+         "MuJoCo's profiler calls the timer 32 times per step of a one-hinge pendulum: with a C "
+         "timer such a step took 1.8x as long (778 against 1401 ns), and 2-3 % longer on the "
+         "humanoid. `mjcffi.install_timer()` installs a C timer in one call, with no GIL per "
+         "call, for whoever wants `d.timer` filled."),
+    Note(("bindings_test.py::*::test_array_keeps_struct_alive",), DELIBERATE,
+         "The test counts references to the `.base` object that all of a model's views share in "
+         "the official bindings. Each mjcffi view has a base of its own that keeps the model's "
+         "memory alive by itself, so a view never depends on the wrapper or on other views; the "
+         "part of the test that checks that the memory outlives the model passes."),
+    Note(("bindings_test.py::*::test_bind_sequence_assignment",
+          "rollout_test.py::*::test_multi_model*",
+          "vfs_test.py::VfsCompileTest::test_spec_*", "vfs_test.py::VfsAttachTest::*",
+          "vfs_test.py::VfsCompileTest::test_long_lived_vfs_without_context",
+          "specs_test.py::*"), GAP, _MJSPEC),
+    Note(("render_test.py::ExternalGLContextLazyImportTest::*",), NOT_APPLICABLE,
+         "These tests read `rendering/classic/gl_context.py` beside the imported package's "
+         "`__init__.py`: a file of the official package's own layout."),
+    Note(("render_test.py::*", "renderer_test.py::*"), GAP,
+         "mjcffi has no OpenGL rendering yet (GLContext, MjrContext and the mjr_* functions, "
+         "Renderer): issue 12 builds it."),
+    Note(("egl_test.py::*",), NOT_APPLICABLE,
+         "The tests load the official package's own `egl/__init__.py` by file path, with a fake "
+         "PyOpenGL, to test its device selection; mjcffi's EGL binding (issue 12) is cffi, "
+         "not PyOpenGL."),
+    Note(("viewer_test.py::*",), GAP,
+         "mjcffi has no `viewer` module yet: issue 14 builds it. (The official run cannot "
+         "collect this file either here: it needs the `glfw` package.)"),
+    Note(("msh2obj_test.py::*",), GAP,
+         "mjcffi has no `msh2obj`, the official package's converter of Gmsh meshes to OBJ "
+         "files; no issue plans it yet."),
 )
 
 
 def classify(file, test):
-    """The Note for test `test` of `file`, or None."""
+    """The Note for test `test` of `file` ('' for a file that cannot be collected), or None."""
     test_id = f"{file}::{test}"
     for note in NOTES:
         if any(fnmatch.fnmatchcase(test_id, pattern) for pattern in note.patterns):

@@ -28,7 +28,7 @@ _REWRITES = (
 
 # Logs each test's start and reports to $CONFORMANCE_LOG, one JSON object a line.
 _LOGGER = '''
-import json, os
+import gc, json, os
 
 _LOG = open(os.environ["CONFORMANCE_LOG"], "a", buffering=1)
 
@@ -57,6 +57,12 @@ def pytest_runtest_logreport(report):
         _write(event="report", nodeid=report.nodeid, when=report.when, outcome=outcome,
                subtest=type(report).__name__ == "SubtestReport",
                message="" if outcome == "passed" else _message(report))
+
+
+def pytest_runtest_logfinish(nodeid, location):
+    # Free what a test left in reference cycles (a failed test's traceback holds
+    # its models and data) now, not inside a later test that counts MuJoCo's frees.
+    gc.collect()
 
 
 def pytest_collectreport(report):
