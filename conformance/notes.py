@@ -34,9 +34,10 @@ NOTES = (
           "bindings_test.py::*::test_mjcb_time_restore_default"), DELIBERATE,
          "mjcffi puts no timer in `mjcb_time` at import, and `set_mjcb_time(None)` clears it. "
          "MuJoCo's profiler calls the timer 32 times per step of a one-hinge pendulum: with a C "
-         "timer such a step took 1.8x as long (778 against 1401 ns), and 2-3 % longer on the "
-         "humanoid. `mjcffi.install_timer()` installs a C timer in one call, with no GIL per "
-         "call, for whoever wants `d.timer` filled."),
+         "timer such a step took 1.73-1.80x as long in two measurements (816 against 1412 ns, "
+         "778 against 1401 ns), and 2-3 % longer on the humanoid. `mjcffi.install_timer()` "
+         "installs a C timer in one call, with no GIL per call, for whoever wants `d.timer` "
+         "filled."),
     Note(("bindings_test.py::*::test_array_keeps_struct_alive",), DELIBERATE,
          "The test counts references to the `.base` object that all of a model's views share in "
          "the official bindings. Each mjcffi view has a base of its own that keeps the model's "
