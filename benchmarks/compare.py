@@ -1,7 +1,8 @@
 """python -m benchmarks.compare [--write]: mjcffi against the official bindings.
 
 Runs every benchmark in one process (import times in fresh interpreters),
-interleaved, and prints RESULTS.md, or writes it with --write.  Models: a
+interleaved, and prints RESULTS.md, or writes it with --write, together with
+the README's figures (benchmarks/readme.py).  Models: a
 tiny pendulum and gymnasium's humanoid and ant.
 """
 
@@ -9,7 +10,7 @@ import argparse
 import pathlib
 
 from . import (bench_batch, bench_import, bench_named, bench_nstep, bench_rollout, bench_sim,
-               bench_step, bench_structs)
+               bench_step, bench_structs, readme)
 from mjcffi._machine import environment
 
 RESULTS = pathlib.Path(__file__).resolve().parent / "RESULTS.md"
@@ -35,7 +36,8 @@ def main(argv=None):
     print(text)
     if args.write:
         RESULTS.write_text(text)
-        print(f"wrote {RESULTS}")
+        readme.write(RESULTS)
+        print(f"wrote {RESULTS} and the figures in {readme.README.name}")
 
 
 if __name__ == "__main__":

@@ -28,12 +28,8 @@ class FatalError(Exception):
 
 def with_note(error, note):
     """`error` with `note` attached (PEP 678): str(error) stays the official message,
-    and tracebacks show our detail under it.  Python 3.10 has no add_note: the note
-    is kept in `__notes__`, where 3.11 keeps it."""
-    if hasattr(error, "add_note"):
-        error.add_note(note)
-    else:
-        error.__notes__ = [*getattr(error, "__notes__", ()), note]
+    and tracebacks show our detail under it."""
+    error.add_note(note)
     return error
 
 
