@@ -58,8 +58,28 @@ _EXTENTS = {
 _DATA_WRITABLE = {"time", "pstack", "pbase"}
 _DATA_WRITABLE_PREFIXES = ("maxuse_", "flg_")
 
-# Extra bounds on scalars: the value must stay within 0..<field or int>.
+# Bounds on scalars that nothing in the headers ties to their limit: the value
+# must stay within 0..<field of the same struct>.  The stack pointers are offsets
+# into the arena.
 _BOUNDS = {"mjData": {"pstack": "narena", "pbase": "narena"}}
+
+# Counts and offsets whose fixed array the headers name neither by a "(n<X>)"
+# comment nor by the count's name (n<X> for <X> or <X>s): (struct, field) -> the
+# array whose rows they count, within 0..rows.
+_COUNTS = {
+    ("mjuiItemMulti_", "nelem"): "name",          # one name per element of the group
+    ("mjuiItemEdit_", "nelem"): "range",          # one range per element of the list
+    ("mjvFigure", "legendoffset"): "linename",    # the legend starts at that line
+}
+
+# Ids into a fixed array, within -1 (none)..rows-1: MuJoCo's renderer indexes
+# the array with them unchecked.
+_IDS = {("mjvFigure", "highlightid"): "linepnt"}
+
+# Sizes of memory allocated by mj*_make<Struct> that stay read-only, rather than
+# bounded by what was allocated: the official bindings do not let them be
+# written either.
+_READONLY_SIZES = {("mjrContext", "nskin")}
 
 # Writing the flag also writes the legacy count, 1 or 0, as the official bindings do.
 _MIRRORS = {("mjModel", "flg_gravcomp"): "ngravcomp"}
@@ -125,6 +145,8 @@ class _Context:
         # the comment on a struct's opening line, e.g. "physics options"
         self.comment = {name: notes.fields.get((s.tag, ""), "")
                         for name, s in decls.structs.items()}
+        self._sizing = None
+        self.bounds = {}           # struct -> its bounds, see _bounds
 
     def module_of(self, cname):
         return self.header_of[cname.split(".")[0]]
@@ -142,14 +164,35 @@ class _Context:
                 return False
         return True
 
+    def sizing(self):
+        """{struct: its scalars that size or offset memory a view shows}.
+
+        Every extent of every pointer field counts, whichever struct holds it:
+        `self.X` names a field of that struct, `m.X` of mjModel, `d.X` of mjData
+        (mjData's arrays are sized by the model, mjvScene.flexedge by nflex)."""
+        owners = {"m": "mjModel", "d": "mjData"}
+        found = {}
+        for cname, infos in self.described.items():
+            for f in infos:
+                if f.kind != "pointer":
+                    continue
+                for extent in _extents(cname, f):
+                    for owner, name in re.findall(r"\b(self|m|d)\.(\w+)", str(extent)):
+                        found.setdefault(owners.get(owner, cname), set()).add(name)
+        return {cname: {f.name for f in self.described[cname]
+                        if f.kind == "scalar" and f.name in names}
+                for cname, names in found.items()}
+
     def sizes(self, cname):
         """Scalars that size the arrays the struct points to (mjvScene.nflex, maxgeom)."""
-        found = set()
-        for f in self.described[cname]:
-            if f.kind == "pointer":
-                for extent in _extents(cname, f):
-                    found.update(re.findall(r"\bself\.(\w+)", str(extent)))
-        return found
+        if self._sizing is None:
+            self._sizing = self.sizing()
+        return self._sizing.get(cname, set())
+
+    def made(self, cname):
+        """The void mj*_make<Struct> that allocates the struct's memory, or None."""
+        make, _ = self.function("make", cname)
+        return make if make is not None and make.restype.decl == "void" else None
 
     def values(self, cname, seen=()):
         """Only values inside, recursively (C strings count as values): comparable
@@ -251,6 +294,8 @@ def _field_line(ctx, struct, f, refs):
                     f"{_count_lambda(struct, extents)}, {doc})")
         if f.elem in _NUMERIC_OR_CHAR:
             kind = "DynamicArray" if _moves(struct, f) else "Array"
+            if f.name in _allocated_views(ctx, struct):
+                kind = "AllocatedArray"
             fill = ", fill=-1" if "-1: none" in f.doc else ""
             return (f"{attr} = {kind}({f.name!r}, {f.elem!r}, "
                     f"{_shape_lambda(struct, extents)}, {doc}{fill})")
@@ -294,23 +339,92 @@ def _readonly(ctx, struct, f):
         return not f.name.startswith("flg_")     # sizes and addresses of the compiled model
     if struct == "mjData":
         return not (f.name in _DATA_WRITABLE or f.name.startswith(_DATA_WRITABLE_PREFIXES))
-    return f.name in ctx.sizes(struct)
+    return f.name in ctx.sizes(struct) and f.name not in _bounds(ctx, struct)
 
 
 def _bounds(ctx, struct):
-    """Scalars kept within a limit: n<X> within max<X> of the same struct (ngeom <=
-    maxgeom), a count within the fixed array it counts (nlight <= mjMAXLIGHT),
-    and those of _BOUNDS."""
+    """{scalar: (low, high, label)}, computed once per struct (see _derive_bounds)."""
+    cached = ctx.bounds.get(struct)
+    if cached is None:
+        cached = ctx.bounds[struct] = _derive_bounds(ctx, struct)
+    return cached
+
+
+def _derive_bounds(ctx, struct):
+    """{scalar: (low, high, label)}: the values each bounded scalar may take.
+
+    `high` is an int, a field of the same struct, or None for what MuJoCo
+    allocated (the field's value when the struct is wrapped); see _views.Bound.
+    Derived from the headers:
+    - n<X> within max<X> of the same struct (ngeom within 0..maxgeom);
+    - a count within the fixed array it counts: the array's comment ends in
+      "(n<X>)" (nlight: lights), or it is named <X> or <X>s (nsect: sect);
+    - a size of memory that mj*_make<Struct> allocates within what it allocated
+      (a scene's maxgeom, nflex and nskin), but for _READONLY_SIZES;
+    and from the tables _COUNTS, _IDS and _BOUNDS for the rest.
+    """
     infos = ctx.described[struct]
-    names = {f.name for f in infos}
-    out = {f.name: "max" + f.name[1:] for f in infos
-           if f.kind == "scalar" and f.name.startswith("n") and "max" + f.name[1:] in names}
+    scalars = {f.name for f in infos if f.kind == "scalar" and f.elem not in _FLOAT}
+    rows = {f.name: f.extents[0] for f in infos if f.kind == "array" and f.extents}
+    out = {}
     for f in infos:
         counted = re.search(r"\((n\w+)\)$", f.doc)
-        if f.kind == "array" and len(f.extents) == 1 and counted and counted.group(1) in names:
-            out[counted.group(1)] = f.extents[0]
-    out.update(_BOUNDS.get(struct, {}))
+        if f.name in rows and counted and counted.group(1) in scalars:
+            out[counted.group(1)] = (0, rows[f.name], f"len({f.name})")
+    for name in sorted(scalars):
+        if not name.startswith("n") or name in out:
+            continue
+        if "max" + name[1:] in scalars:
+            out[name] = (0, "max" + name[1:], "max" + name[1:])
+        for array in (name[1:], name[1:] + "s"):
+            if array in rows:
+                out[name] = (0, rows[array], f"len({array})")
+    for (owner, name), array in _COUNTS.items():
+        if owner == struct:
+            out[name] = (0, rows[array], f"len({array})")
+    for (owner, name), array in _IDS.items():
+        if owner == struct:
+            out[name] = (-1, rows[array] - 1, f"an index into {array}, -1: none")
+    make = ctx.made(struct)
+    if make is not None:
+        for name in sorted(ctx.sizes(struct) - {n for o, n in _READONLY_SIZES if o == struct}):
+            out.setdefault(name, (0, None, f"the {name} allocated by {make.name}"))
+    for name, limit in _BOUNDS.get(struct, {}).items():
+        out[name] = (0, limit, limit)
     return out
+
+
+def _allocated_views(ctx, struct):
+    """Pointer fields sized by counts held in other arrays of the struct (a scene's
+    flexedge: 2*sum(flexedgenum)), in a struct that mj*_make<Struct> allocates:
+    their size is kept within what was allocated (see _views.AllocatedArray)."""
+    if ctx.made(struct) is None:
+        return ()
+    arrays = {f.name for f in ctx.described[struct] if f.kind == "pointer"}
+    return tuple(f.name for f in ctx.described[struct] if f.kind == "pointer" and any(
+        name in arrays for extent in _extents(struct, f)
+        for name in re.findall(r"\bself\.(\w+)", str(extent))))
+
+
+def _check_sizes(ctx):
+    """Every scalar that sizes a view is read-only or bounded: fail the generator
+    when a new MuJoCo adds one that is neither."""
+    for struct, infos in ctx.described.items():
+        arrays = {f.name for f in infos if f.kind == "pointer"}
+        for f in infos:
+            sized_by = {name for extent in _extents(struct, f)
+                        for name in re.findall(r"\bself\.(\w+)", str(extent))} & arrays
+            if f.kind == "pointer" and sized_by and f.name not in _allocated_views(ctx, struct):
+                raise ValueError(f"{struct}.{f.name} is sized by the arrays {sorted(sized_by)} "
+                                 f"with nothing to bound it")
+    for struct, names in ctx.sizing().items():
+        infos = {f.name: f for f in ctx.described[struct]}
+        bounds = _bounds(ctx, struct)
+        loose = sorted(n for n in names
+                       if not _readonly(ctx, struct, infos[n]) and n not in bounds)
+        if loose:
+            raise ValueError(f"{struct}: {', '.join(loose)} size views but are neither "
+                             f"read-only nor bounded; add a bound (see _bounds)")
 
 
 def _repr_fields(ctx, struct):
@@ -425,7 +539,7 @@ def _arg_expr(arg, optional=False):
     if arg.type.pointer and arg.type.base in ("mjModel", "mjData"):
         expr = f"struct_pointer({name}, {arg.type.base!r}, {name!r})"
         return f"ffi.NULL if {name} is None else {expr}" if optional else expr
-    expr = f"int_argument({name}, {name!r})"
+    expr = f"int_argument({name}, {name!r}, {arg.type.decl!r})"
     return f"0 if {name} is None else {expr}" if optional else expr
 
 
@@ -446,7 +560,16 @@ def _class(ctx, struct, refs):
         lines.append("    _plain = False")
     bounds = _bounds(ctx, struct)
     if bounds:
-        lines.append(f"    _bounds = {bounds!r}")
+        lines.append("    _bounds = {")
+        lines += [f"        {name!r}: Bound({low!r}, {high!r}, {label!r}),"
+                  for name, (low, high, label) in bounds.items()]
+        lines.append("    }")
+    capacities = tuple(name for name, (_, high, _) in bounds.items() if high is None)
+    if capacities:
+        lines.append(f"    _capacities = {capacities!r}")
+    allocated = _allocated_views(ctx, struct)
+    if allocated:
+        lines.append(f"    _allocated_views = {allocated!r}")
     aliases = _nested_aliases(ctx, struct)
     lines += [""] + (["    # the nested structs under their official names"] + aliases + [""]
                      if aliases else [])
@@ -470,6 +593,7 @@ def generate(described, decls, header_texts, notes):
     """{relative path: text} for mjcffi/structs/*.py."""
     header_of = _header_of(decls, header_texts)
     ctx = _Context(described, decls, header_of, notes)
+    _check_sizes(ctx)
     modules, order = {}, []
     for struct in described:
         module = ctx.module_of(struct)
@@ -525,9 +649,10 @@ def _package_stub(modules):
     return "\n".join(lines) + "\n"
 
 
-_VIEWS_NAMES = ("Array", "DynamicArray", "FixedArray", "FixedRecords", "Nested", "Records",
-                "Struct", "ValueStruct", "chars", "cstring", "eager", "guarded", "int_argument",
-                "pointer", "scalar", "struct_pointer", "struct_type", "text", "total")
+_VIEWS_NAMES = ("AllocatedArray", "Array", "Bound", "DynamicArray", "FixedArray", "FixedRecords", "Nested",
+                "Records", "Struct", "ValueStruct", "chars", "cstring", "eager", "guarded",
+                "int_argument", "pointer", "scalar", "struct_pointer", "struct_type", "text",
+                "total")
 
 
 def _imports(body):

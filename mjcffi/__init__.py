@@ -15,7 +15,7 @@ import importlib
 from . import _aliases
 from ._constants import *  # noqa: F401,F403
 from ._enums import *  # noqa: F401,F403
-from ._errors import FatalError  # noqa: F401
+from ._errors import ArgumentError, FatalError, IdError  # noqa: F401
 from ._library import ffi, lib  # noqa: F401
 
 __version__ = "0.1.0"
@@ -23,7 +23,6 @@ __version__ = "0.1.0"
 # public name -> module that defines it, imported on first use
 _LAZY = {
     "MJTNUM_DTYPE": "._views", "MJTNUM_BYTES": "._views",   # NumPy loads on first use
-    "ArgumentError": "._marshal", "IdError": "._marshal",   # bad arguments of the functions
     "MjModel": ".model",
     "MjData": ".data",
     "MjWarningError": ".warning_errors",

@@ -1,8 +1,8 @@
 # Type stub of the mjcffi package: the names its __getattr__ loads on first use.
 from ._constants import *
 from ._enums import *
-from ._errors import FatalError as FatalError
-from ._marshal import ArgumentError as ArgumentError, IdError as IdError
+from ._errors import (ArgumentError as ArgumentError, FatalError as FatalError,
+                      IdError as IdError)
 from ._functions import *
 from ._library import ffi as ffi, lib as lib
 from ._overrides import *

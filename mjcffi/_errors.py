@@ -26,6 +26,20 @@ class FatalError(Exception):
     """
 
 
+class ArgumentError(TypeError, ValueError):
+    """An argument of the wrong type, dtype, shape, size or memory layout.
+
+    A TypeError, as in the official bindings, and a ValueError, as mjcffi raised
+    before it followed them.  The official message, where the official bindings
+    have one of their own, is str(exc); the shape expected is in a note.
+    """
+
+
+class IdError(IndexError, ValueError):
+    """An id argument out of range: an IndexError (as the official bindings raise
+    for the ids they check), and a ValueError (as mjcffi raised before)."""
+
+
 def with_note(error, note):
     """`error` with `note` attached (PEP 678): str(error) stays the official message,
     and tracebacks show our detail under it."""

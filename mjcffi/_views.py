@@ -10,10 +10,11 @@ wrapper, so a view cached on a wrapper makes no cycle (see `view`).
 import keyword
 import operator
 from collections.abc import Sequence
+from typing import NamedTuple
 
 import numpy as np
 
-from ._errors import check, raise_pending, with_note
+from ._errors import ArgumentError, check, raise_pending, with_note
 from ._library import ffi
 
 # C element type (MuJoCo's name or cffi's resolved one) -> NumPy dtype.
@@ -201,6 +202,30 @@ class DynamicArray(Array):
         assign(self.build(obj), value, self.name)
 
 
+class AllocatedArray(DynamicArray):
+    """A DynamicArray sized by counts that other arrays hold (a scene's flexedge has
+    2*sum(flexedgenum) entries), in memory that mj*_make<Struct> allocated.
+
+    Those counts are writable views, so the size is checked against what was
+    allocated, recorded when the struct was wrapped (Struct._remade): a count
+    written past it raises ValueError instead of showing memory beyond the block.
+    """
+
+    def build(self, obj):
+        shape = self.shape(obj)
+        size = 1
+        for n in shape:
+            size *= n
+        state = obj.__dict__
+        if not 0 <= size <= state["_allocated"][self.name]:
+            if obj._reallocated():
+                return self.build(obj)
+            raise ValueError(f"{type(obj).__name__}.{self.name} would show {size} entries, "
+                             f"not within the 0..{state['_allocated'][self.name]} allocated: "
+                             f"the counts that size it were written past their allocation")
+        return view(getattr(obj._ptr, self.name), self.dtype, shape, obj._root, self.fill)
+
+
 class Records:
     """A pointed-to array of structs (mjData.contact: ncon, mjvScene.geoms: maxgeom).
 
@@ -222,11 +247,15 @@ class Records:
 
 
 def assign(target, value, name):
-    """Write `value` into the view `target`, naming the field on a bad shape."""
+    """Write `value` into the view `target`, naming the field on a bad shape or value.
+
+    A value that does not fit the dtype (NumPy's OverflowError) is a ValueError."""
     try:
         target[...] = value
-    except (ValueError, TypeError) as exc:
-        raise type(exc)(f"cannot assign to {name} of shape {target.shape}: {exc}") from None
+    except (ValueError, TypeError, OverflowError) as exc:
+        kind = TypeError if isinstance(exc, TypeError) else ValueError
+        raise kind(f"cannot assign to {name} of shape {target.shape} and dtype {target.dtype}: "
+                   f"{exc}") from None
 
 
 # ------------------------------------------------------------- struct arrays
@@ -335,6 +364,7 @@ class LiveStructArray(StructArray):
 
     def _span(self):
         owner = self._owner
+        self._root = owner._root     # the owner's memory as of now (mjv_makeScene gives new)
         return getattr(owner._ptr, self._field), self._counter(owner), 1
 
 
@@ -393,7 +423,9 @@ class Struct(metaclass=StructType):
     _fields: tuple = ()           # the fields' attribute names, in C order
     _repr_fields: tuple = ()      # fields shown by the short repr
     _plain: bool = True           # no pointers inside: copy and pickle by bytes
-    _bounds: dict = {}            # scalar -> the scalar or int bounding it (ngeom <= maxgeom)
+    _bounds: dict = {}            # scalar -> its Bound (ngeom within 0..maxgeom)
+    _capacities: tuple = ()       # scalars bounded by their value when wrapped (see Bound)
+    _allocated_views: tuple = ()  # AllocatedArray fields, bounded likewise
     _eager: dict = {}             # fields built when wrapped (see above)
 
     def __init__(self):
@@ -415,6 +447,40 @@ class Struct(metaclass=StructType):
         state.update(_ptr=pointer, _root=root, **extra)
         for name, field in self._eager.items():
             state[name] = field.build(self)
+        if self._capacities or self._allocated_views:
+            self._remade()
+
+    def _remade(self):
+        """Record the sizes MuJoCo allocated (a scene's maxgeom, nflex, nskin), which
+        bound what may be written to them.  Wrapping does it, and so does re-pointing
+        a wrapper at new memory (mjcffi's mjv_makeScene); call it again after a raw
+        `lib` call reallocated the struct in place.
+
+        `_capacity` maps each to [allocated, last value seen]: a value that changed
+        behind our back was written by MuJoCo's make or free, and everything is
+        recorded again then (see _reallocated), so a scene remade without this
+        call stays bounded unless its counts were all written from Python to the
+        new values beforehand.  `_allocated` holds the sizes of the
+        AllocatedArray fields."""
+        pointer, cls = self._ptr, type(self)
+        self.__dict__["_capacity"] = {name: [getattr(pointer, name)] * 2
+                                      for name in self._capacities}
+        self.__dict__["_allocated"] = {}
+        for name in self._allocated_views:
+            size = 1
+            for n in getattr(cls, name).shape(self):
+                size *= n
+            self.__dict__["_allocated"][name] = size
+
+    def _reallocated(self):
+        """Whether MuJoCo changed a count of `_capacities` behind our back (made or
+        freed the struct again); if so, record the new allocation (see _remade)."""
+        pointer = self._ptr
+        if all(getattr(pointer, name) == seen
+               for name, (_, seen) in self.__dict__["_capacity"].items()):
+            return False
+        self._remade()
+        return True
 
     @property
     def _address(self):
@@ -438,8 +504,15 @@ class Struct(metaclass=StructType):
         return sorted(set(super().__dir__()) | set(type(self)._eager))
 
     def _copy_from(self, other):
+        """Assignment of a nested struct (`m.opt = other`): all its bytes, in place.
+
+        Refused for a struct holding pointers (a spec's MjsCompiler): the copy would
+        share memory that its owner frees.  (Assigning one to itself changes nothing.)"""
         if not isinstance(other, Struct) or other._cname != self._cname:
             raise TypeError(f"expected {type(self).__name__}, got {type(other).__name__}")
+        if not self._plain and other._ptr != self._ptr:
+            raise TypeError(f"{type(self).__name__} holds pointers: it cannot be assigned as a "
+                            f"whole; assign its fields one by one")
         ffi.memmove(self._ptr, other._ptr, ffi.sizeof(self._ctype))
 
     # copy and pickle of plain structs: their bytes are their whole value
@@ -511,12 +584,27 @@ def struct_type(cname):
     return ctype
 
 
+class Bound(NamedTuple):
+    """The values a scalar field may take: `low` to `high`, both included.
+
+    `high` is an int, the name of another field of the same struct (ngeom within
+    0..maxgeom), or None for the field's own value when the struct was wrapped,
+    i.e. what MuJoCo allocated (a scene's nflex).  `label` says where the bound
+    comes from, for the error message.
+    """
+    low: int
+    high: object
+    label: str
+
+
 def scalar(name, doc, readonly=False, boolean=False, mirror=None):
     """A property reading and writing one scalar field of the C struct.
 
     A `boolean` field takes any integer, as True or False.  Writing a field
     with a `mirror` also writes 1 or 0 to that one (mjModel.flg_gravcomp sets
     ngravcomp, as the official bindings do).  `_bounds` limits the values.
+    A value the C type cannot hold is a ValueError naming the field and the
+    type's range (see _scalar_error); a value that is no number, a TypeError.
     """
     def set_value(self, value):
         limit = self._bounds.get(name)
@@ -527,7 +615,7 @@ def scalar(name, doc, readonly=False, boolean=False, mirror=None):
         try:
             setattr(self._ptr, name, value)
         except (TypeError, OverflowError) as exc:
-            raise type(exc)(f"{type(self).__name__}.{name}: {exc}") from None
+            raise _scalar_error(self, name, value, exc) from None
         if mirror is not None:
             setattr(self._ptr, mirror, 1 if value else 0)
     return property(operator.attrgetter("_ptr." + name), None if readonly else set_value,
@@ -535,10 +623,73 @@ def scalar(name, doc, readonly=False, boolean=False, mirror=None):
 
 
 def _check_bound(self, name, value, limit):
-    high = limit if isinstance(limit, int) else getattr(self._ptr, limit)
-    if not 0 <= operator.index(value) <= high:
-        raise ValueError(f"{type(self).__name__}.{name} must be within 0..{limit} ({high}), "
-                         f"not {value}")
+    low, high, label = limit
+    capacity = None
+    if high is None:                   # what MuJoCo allocated: see Struct._remade
+        self._reallocated()
+        capacity = self.__dict__["_capacity"][name]
+        high = capacity[0]
+    elif high.__class__ is str:
+        high = getattr(self._ptr, high)
+    try:
+        number = operator.index(value)
+    except TypeError:
+        raise TypeError(f"{type(self).__name__}.{name} takes an int, "
+                        f"not {type(value).__name__}") from None
+    if not low <= number <= high:
+        raise ValueError(f"{type(self).__name__}.{name} must be within {low}..{high} "
+                         f"({label}), not {value}")
+    if capacity is not None:
+        capacity[1] = number
+
+
+def _field_type(ctype, name):
+    """The cffi type of field `name` of struct type `ctype`, in anonymous unions too."""
+    for field_name, field in ctype.fields:
+        if field_name == name:
+            return field.type
+        if not field_name and field.type.kind in ("struct", "union"):
+            found = _field_type(field.type, name)
+            if found is not None:
+                return found
+    return None
+
+
+def _range(ctype):
+    """(low, high) of a C integer or enum type, or None for a floating-point one."""
+    if ctype.kind == "primitive" and ctype.cname in ("float", "double", "long double"):
+        return None
+    bits = 8 * ffi.sizeof(ctype)
+    try:
+        ffi.new(ffi.getctype(ctype, "*"), -1)
+    except OverflowError:
+        return 0, (1 << bits) - 1                  # unsigned
+    return -(1 << (bits - 1)), (1 << (bits - 1)) - 1
+
+
+def _scalar_error(self, name, value, exc):
+    """What to raise when cffi refused `value` for a scalar field: a ValueError (that
+    is also the official TypeError) when it does not fit the C type, naming the
+    type's range; a TypeError when it is no number."""
+    title = f"{type(self).__name__}.{name}"
+    ctype = _field_type(ffi.typeof(self._ptr).item, name)
+    if isinstance(exc, TypeError) or ctype is None:
+        pointer = ctype is not None and ctype.kind in ("pointer", "function")
+        return TypeError(f"{title} takes {'a function pointer' if pointer else 'a number'} "
+                         f"(C {ctype.cname if ctype else '?'}), not {type(value).__name__}")
+    span = _range(ctype)
+    if span is None:               # only an int beyond the double range overflows
+        limit = float(np.finfo(np.float64).max)
+        where = f"is out of range for a C {ctype.cname} (-{limit:g}..{limit:g})"
+    else:
+        where = f"is out of range for a C {ctype.cname} ({span[0]}..{span[1]})"
+    return ArgumentError(f"{title}: {_short(value)} {where}")
+
+
+def _short(value):
+    """repr(value), with the middle of a long one (an int of 400 digits) left out."""
+    text = repr(value)
+    return text if len(text) <= 40 else f"{text[:16]}...{text[-8:]} ({len(text)} characters)"
 
 
 def _as_bool(self, name, value):
@@ -603,18 +754,27 @@ def total(pointer, count):
 # ------------------------------------------------------- argument checking
 
 def struct_pointer(obj, cname, argname):
-    """The C pointer of wrapper `obj`, which must wrap a `cname`."""
-    if getattr(obj, "_cname", None) != cname:
-        raise TypeError(f"{argname} must be {cname[0].upper() + cname[1:]}, "
-                        f"not {type(obj).__name__}")
+    """The C pointer of wrapper `obj`, which must wrap a `cname` (an instance, not
+    the class)."""
+    if getattr(obj, "_cname", None) != cname or isinstance(obj, type):
+        what = f"the class {obj.__name__}" if isinstance(obj, type) else type(obj).__name__
+        raise TypeError(f"{argname} must be {cname[0].upper() + cname[1:]}, not {what}")
     return obj._ptr
 
 
-def int_argument(value, argname):
+def int_argument(value, argname, ctype=None):
+    """`value` as a Python int; with `ctype` ('int'), one that C type can hold, or
+    a ValueError that is also the official TypeError."""
     try:
-        return operator.index(value)
+        number = operator.index(value)
     except TypeError:
         raise TypeError(f"{argname} must be an int, not {type(value).__name__}") from None
+    if ctype is not None:
+        low, high = _range(ffi.typeof(ctype))
+        if not low <= number <= high:
+            raise ArgumentError(f"{argname}={_short(value)} is out of range for a C {ctype} "
+                                f"({low}..{high})")
+    return number
 
 
 def guarded(guard, *args):

@@ -3,8 +3,8 @@
 
 from numpy import ndarray
 
-from .._views import (Array, DynamicArray, FixedArray, FixedRecords, Records, Struct, ValueStruct,
-                      eager, pointer, scalar, struct_type)
+from .._views import (Array, Bound, DynamicArray, FixedArray, FixedRecords, Records, Struct,
+                      ValueStruct, eager, pointer, scalar, struct_type)
 
 __all__ = ['MjPreContact', 'MjContact', 'MjWarningStat', 'MjTimerStat', 'MjSolverStat']
 
@@ -98,7 +98,10 @@ class MjData(Struct):
     _fields = ('narena', 'nbuffer', 'nplugin', 'pstack', 'pbase', 'parena', 'threadpool', 'threadlock', 'maxuse_stack', 'maxuse_arena', 'maxuse_con', 'maxuse_efc', 'solver', 'solver_niter', 'solver_nnz', 'solver_fwdinv', 'warning', 'timer', 'ncon', 'ne', 'nf', 'nl', 'nefc', 'nJ', 'efm_active', 'nefmK', 'nefmcon', 'nefmT', 'nefmA', 'nefmdof', 'nefmL', 'nY', 'nA', 'nisland', 'nidof', 'ntree_awake', 'nbody_awake', 'nparent_awake', 'nv_awake', 'flg_energypos', 'flg_energyvel', 'flg_subtreevel', 'flg_rnepost', 'time', 'energy', 'buffer', 'arena', 'qpos', 'qvel', 'act', 'history', 'plastic', 'qacc_warmstart', 'plugin_state', 'ctrl', 'qfrc_applied', 'xfrc_applied', 'eq_active', 'mocap_pos', 'mocap_quat', 'qacc', 'act_dot', 'userdata', 'sensordata', 'tree_asleep', 'plugin', 'plugin_data', 'xpos', 'xquat', 'xmat', 'xipos', 'xiquat', 'ximat', 'xanchor', 'xaxis', 'geom_xpos', 'geom_xquat', 'geom_xmat', 'site_xpos', 'site_xquat', 'site_xmat', 'cam_xpos', 'cam_xmat', 'light_xpos', 'light_xdir', 'subtree_com', 'cdof', 'cinert', 'flexvert_xpos', 'flexelem_aabb', 'flexelem_krot', 'flex_hessian_valid', 'flexvert_hessian', 'flexedge_hessian', 'flexedge_J', 'flexedge_length', 'bvh_aabb_dyn', 'flexvert_lambda', 'flexvert_conage', 'ten_wrapadr', 'ten_wrapnum', 'ten_J', 'ten_length', 'wrap_obj', 'wrap_xpos', 'actuator_length', 'moment_rownnz', 'moment_rowadr', 'moment_colind', 'actuator_moment', 'crb', 'M', 'qLD', 'qLDiagInv', 'bvh_active', 'tree_awake', 'body_awake', 'body_awake_ind', 'parent_awake_ind', 'dof_awake_ind', 'flexedge_velocity', 'ten_velocity', 'actuator_velocity', 'cvel', 'cdof_dot', 'qfrc_bias', 'qfrc_spring', 'qfrc_damper', 'qfrc_gravcomp', 'qfrc_fluid', 'qfrc_adhesion', 'qfrc_passive', 'subtree_linvel', 'subtree_angmom', 'qH', 'qHDiagInv', 'qDeriv', 'qLU', 'actuator_force', 'qfrc_actuator', 'qfrc_smooth', 'qacc_smooth', 'qfrc_constraint', 'qfrc_inverse', 'cacc', 'cfrc_int', 'cfrc_ext', 'contact', 'efc_type', 'efc_id', 'efc_J_rownnz', 'efc_J_rowadr', 'efc_J_rowsuper', 'efc_J_colind', 'efc_J', 'efc_pos', 'efc_margin', 'efc_frictionloss', 'efc_diagA', 'efc_KBIP', 'efc_D', 'efc_R', 'tendon_efcadr', 'tree_island', 'island_ntree', 'island_itreeadr', 'map_itree2tree', 'dof_island', 'island_nv', 'island_idofadr', 'island_dofadr', 'map_dof2idof', 'map_idof2dof', 'ifrc_smooth', 'iacc_smooth', 'iacc', 'efc_island', 'island_ne', 'island_nf', 'island_nefc', 'island_iefcadr', 'map_efc2iefc', 'map_iefc2efc', 'iefc_type', 'iefc_id', 'iefc_frictionloss', 'iefc_D', 'iefc_R', 'efc_Y_rownnz', 'efc_Y_rowadr', 'efc_Y_colind', 'efc_Y', 'efc_AR_rownnz', 'efc_AR_rowadr', 'efc_AR_colind', 'efc_AR', 'efc_vel', 'efc_aref', 'efm_c', 'efm_diag', 'efm_ck', 'efm_sdiag', 'efm_fluid', 'efm_tid', 'efm_ts', 'efm_tk', 'efm_aid', 'efm_as', 'efm_ak', 'efm_ca', 'efm_K_rownnz', 'efm_K_rowadr', 'efm_K_colind', 'efm_K_val', 'efm_dofid', 'efm_con_ind', 'efm_con_val', 'efm_L', 'efc_b', 'iefc_aref', 'iefc_state', 'iefc_force', 'efc_state', 'efc_force', 'ifrc_constraint', 'signature')
     _repr_fields = ('time', 'ncon', 'nefc')
     _plain = False
-    _bounds = {'pstack': 'narena', 'pbase': 'narena'}
+    _bounds = {
+        'pstack': Bound(0, 'narena', 'narena'),
+        'pbase': Bound(0, 'narena', 'narena'),
+    }
 
     def __init__(self, *args, **kwargs):
         raise TypeError('MjData has no constructor: MuJoCo creates it')

@@ -2,7 +2,7 @@
 """The structs of MuJoCo's mjrender.h, as thin classes over C memory."""
 
 from .._library import ffi, lib
-from .._views import (DynamicArray, FixedArray, Struct, ValueStruct, cstring, guarded,
+from .._views import (Bound, DynamicArray, FixedArray, Struct, ValueStruct, cstring, guarded,
                       int_argument, scalar, struct_pointer, struct_type)
 
 __all__ = ['MjrRect', 'MjrRendererInfo', 'MjrVertexAttribute', 'MjrContext']
@@ -72,7 +72,9 @@ class MjrContext(Struct):
     _fields = ('lineWidth', 'shadowClip', 'shadowScale', 'fogStart', 'fogEnd', 'fogRGBA', 'shadowSize', 'offWidth', 'offHeight', 'offSamples', 'fontScale', 'auxWidth', 'auxHeight', 'auxSamples', 'offFBO', 'offFBO_r', 'offColor', 'offColor_r', 'offDepthStencil', 'offDepthStencil_r', 'shadowFBO', 'shadowTex', 'auxFBO', 'auxFBO_r', 'auxColor', 'auxColor_r', 'mat_texid', 'mat_texuniform', 'mat_texrepeat', 'ntexture', 'textureType', 'texture', 'basePlane', 'baseMesh', 'baseHField', 'baseBuiltin', 'baseFontNormal', 'baseFontShadow', 'baseFontBig', 'rangePlane', 'rangeMesh', 'rangeHField', 'rangeBuiltin', 'rangeFont', 'nskin', 'skinvertVBO', 'skinnormalVBO', 'skintexcoordVBO', 'skinfaceVBO', 'charWidth', 'charWidthBig', 'charHeight', 'charHeightBig', 'glInitialized', 'windowAvailable', 'windowSamples', 'windowStereo', 'windowDoublebuffer', 'currentBuffer', 'readPixelFormat', 'readDepthMap')
     _repr_fields = ('lineWidth', 'shadowClip', 'shadowScale', 'fogStart', 'fogEnd', 'fogRGBA', 'shadowSize', 'offWidth', 'offHeight', 'offSamples', 'fontScale', 'auxWidth')
     _plain = False
-    _bounds = {'ntexture': 1000}
+    _bounds = {
+        'ntexture': Bound(0, 1000, 'len(textureType)'),
+    }
 
     def __init__(self, model=None, fontscale=None):
         """MjrContext() is default-initialized; MjrContext(model, fontscale) is made by mjr_makeContext and freed by mjr_freeContext when collected."""
@@ -81,7 +83,7 @@ class MjrContext(Struct):
         root = ffi.new('mjrContext *')
         lib.mjr_defaultContext(root)
         if model is not None:
-            guarded(lib.mjcffi_guard_mjr_makeContext, struct_pointer(model, 'mjModel', 'model'), root, int_argument(fontscale, 'fontscale'))
+            guarded(lib.mjcffi_guard_mjr_makeContext, struct_pointer(model, 'mjModel', 'model'), root, int_argument(fontscale, 'fontscale', 'int'))
             root = ffi.gc(root, lib.mjr_freeContext)
         self._init_root(root)
 

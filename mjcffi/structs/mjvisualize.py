@@ -2,8 +2,9 @@
 """The structs of MuJoCo's mjvisualize.h, as thin classes over C memory."""
 
 from .._library import ffi, lib
-from .._views import (DynamicArray, FixedArray, FixedRecords, Records, Struct, ValueStruct,
-                      guarded, int_argument, scalar, struct_pointer, struct_type, text, total)
+from .._views import (AllocatedArray, Bound, DynamicArray, FixedArray, FixedRecords, Records,
+                      Struct, ValueStruct, guarded, int_argument, scalar, struct_pointer,
+                      struct_type, text, total)
 
 __all__ = ['MjvPerturb', 'MjvCamera', 'MjvGLCamera', 'MjvGeom', 'MjvLight', 'MjvOption', 'MjvScene', 'MjvFigure']
 
@@ -176,7 +177,15 @@ class MjvScene(Struct):
     _fields = ('maxgeom', 'ngeom', 'geoms', 'geomorder', 'nflex', 'flexedgeadr', 'flexedgenum', 'flexvertadr', 'flexvertnum', 'flexfaceadr', 'flexfacenum', 'flexfaceused', 'flexedge', 'flexvert', 'flexface', 'flexnormal', 'flextexcoord', 'flexvertopt', 'flexedgeopt', 'flexfaceopt', 'flexskinopt', 'nskin', 'skinfacenum', 'skinvertadr', 'skinvertnum', 'skinvert', 'skinnormal', 'nlight', 'lights', 'camera', 'enabletransform', 'translate', 'rotate', 'scale', 'stereo', 'flags', 'framewidth', 'framergb', 'status')
     _repr_fields = ('maxgeom', 'ngeom', 'nflex', 'flexvertopt', 'flexedgeopt', 'flexfaceopt', 'flexskinopt', 'nskin', 'nlight', 'enabletransform', 'translate', 'rotate')
     _plain = False
-    _bounds = {'ngeom': 'maxgeom', 'nlight': 100}
+    _bounds = {
+        'nlight': Bound(0, 100, 'len(lights)'),
+        'ngeom': Bound(0, 'maxgeom', 'maxgeom'),
+        'maxgeom': Bound(0, None, 'the maxgeom allocated by mjv_makeScene'),
+        'nflex': Bound(0, None, 'the nflex allocated by mjv_makeScene'),
+        'nskin': Bound(0, None, 'the nskin allocated by mjv_makeScene'),
+    }
+    _capacities = ('maxgeom', 'nflex', 'nskin')
+    _allocated_views = ('flexedge', 'flexvert', 'flexface', 'flexnormal', 'flextexcoord', 'skinvert', 'skinnormal')
 
     def __init__(self, model=None, maxgeom=None):
         """MjvScene() is made by mjv_makeScene with no model; MjvScene(model, maxgeom) is made by mjv_makeScene and freed by mjv_freeScene when collected."""
@@ -184,15 +193,15 @@ class MjvScene(Struct):
             raise TypeError('MjvScene takes model and maxgeom together, or none of them')
         root = ffi.new('mjvScene *')
         lib.mjv_defaultScene(root)
-        guarded(lib.mjcffi_guard_mjv_makeScene, ffi.NULL if model is None else struct_pointer(model, 'mjModel', 'model'), root, 0 if maxgeom is None else int_argument(maxgeom, 'maxgeom'))
+        guarded(lib.mjcffi_guard_mjv_makeScene, ffi.NULL if model is None else struct_pointer(model, 'mjModel', 'model'), root, 0 if maxgeom is None else int_argument(maxgeom, 'maxgeom', 'int'))
         root = ffi.gc(root, lib.mjv_freeScene)
         self._init_root(root)
 
-    maxgeom: int = scalar('maxgeom', 'size of allocated geom buffer', readonly=True)
+    maxgeom: int = scalar('maxgeom', 'size of allocated geom buffer')
     ngeom: int = scalar('ngeom', 'number of geoms currently in buffer')
     geoms = Records('geoms', lambda: MjvGeom, lambda s: s._ptr.maxgeom, 'buffer for geoms')
     geomorder = DynamicArray('geomorder', 'int', lambda s: (s._ptr.maxgeom,), 'buffer for ordering geoms by distance to camera')
-    nflex: int = scalar('nflex', 'number of flexes', readonly=True)
+    nflex: int = scalar('nflex', 'number of flexes')
     flexedgeadr = DynamicArray('flexedgeadr', 'int', lambda s: (s._ptr.nflex,), 'address of flex edges')
     flexedgenum = DynamicArray('flexedgenum', 'int', lambda s: (s._ptr.nflex,), 'number of edges in flex')
     flexvertadr = DynamicArray('flexvertadr', 'int', lambda s: (s._ptr.nflex,), 'address of flex vertices')
@@ -200,21 +209,21 @@ class MjvScene(Struct):
     flexfaceadr = DynamicArray('flexfaceadr', 'int', lambda s: (s._ptr.nflex,), 'address of flex faces')
     flexfacenum = DynamicArray('flexfacenum', 'int', lambda s: (s._ptr.nflex,), 'number of flex faces allocated')
     flexfaceused = DynamicArray('flexfaceused', 'int', lambda s: (s._ptr.nflex,), 'number of flex faces currently in use')
-    flexedge = DynamicArray('flexedge', 'int', lambda s: (2*total(s._ptr.flexedgenum, s._ptr.nflex),), 'flex edge data')
-    flexvert = DynamicArray('flexvert', 'float', lambda s: (3*total(s._ptr.flexvertnum, s._ptr.nflex),), 'flex vertices')
-    flexface = DynamicArray('flexface', 'float', lambda s: (9*total(s._ptr.flexfacenum, s._ptr.nflex),), 'flex faces vertices (9*sum(flexfacenum))')
-    flexnormal = DynamicArray('flexnormal', 'float', lambda s: (9*total(s._ptr.flexfacenum, s._ptr.nflex),), 'flex face normals (9*sum(flexfacenum))')
-    flextexcoord = DynamicArray('flextexcoord', 'float', lambda s: (6*total(s._ptr.flexfacenum, s._ptr.nflex),), 'flex face texture coordinates (6*sum(flexfacenum))')
+    flexedge = AllocatedArray('flexedge', 'int', lambda s: (2*total(s._ptr.flexedgenum, s._ptr.nflex),), 'flex edge data')
+    flexvert = AllocatedArray('flexvert', 'float', lambda s: (3*total(s._ptr.flexvertnum, s._ptr.nflex),), 'flex vertices')
+    flexface = AllocatedArray('flexface', 'float', lambda s: (9*total(s._ptr.flexfacenum, s._ptr.nflex),), 'flex faces vertices (9*sum(flexfacenum))')
+    flexnormal = AllocatedArray('flexnormal', 'float', lambda s: (9*total(s._ptr.flexfacenum, s._ptr.nflex),), 'flex face normals (9*sum(flexfacenum))')
+    flextexcoord = AllocatedArray('flextexcoord', 'float', lambda s: (6*total(s._ptr.flexfacenum, s._ptr.nflex),), 'flex face texture coordinates (6*sum(flexfacenum))')
     flexvertopt: int = scalar('flexvertopt', 'copy of mjVIS_FLEXVERT mjvOption flag')
     flexedgeopt: int = scalar('flexedgeopt', 'copy of mjVIS_FLEXEDGE mjvOption flag')
     flexfaceopt: int = scalar('flexfaceopt', 'copy of mjVIS_FLEXFACE mjvOption flag')
     flexskinopt: int = scalar('flexskinopt', 'copy of mjVIS_FLEXSKIN mjvOption flag')
-    nskin: int = scalar('nskin', 'number of skins', readonly=True)
+    nskin: int = scalar('nskin', 'number of skins')
     skinfacenum = DynamicArray('skinfacenum', 'int', lambda s: (s._ptr.nskin,), 'number of faces in skin')
     skinvertadr = DynamicArray('skinvertadr', 'int', lambda s: (s._ptr.nskin,), 'address of skin vertices')
     skinvertnum = DynamicArray('skinvertnum', 'int', lambda s: (s._ptr.nskin,), 'number of vertices in skin')
-    skinvert = DynamicArray('skinvert', 'float', lambda s: (3*total(s._ptr.skinvertnum, s._ptr.nskin),), 'skin vertex data')
-    skinnormal = DynamicArray('skinnormal', 'float', lambda s: (3*total(s._ptr.skinvertnum, s._ptr.nskin),), 'skin normal data')
+    skinvert = AllocatedArray('skinvert', 'float', lambda s: (3*total(s._ptr.skinvertnum, s._ptr.nskin),), 'skin vertex data')
+    skinnormal = AllocatedArray('skinnormal', 'float', lambda s: (3*total(s._ptr.skinvertnum, s._ptr.nskin),), 'skin normal data')
     nlight: int = scalar('nlight', 'number of lights currently in buffer')
     lights = FixedRecords('lights', lambda: MjvLight, 100, 'buffer for lights (nlight)')
     camera = FixedRecords('camera', lambda: MjvGLCamera, 2, 'left and right camera')
@@ -236,6 +245,10 @@ class MjvFigure(Struct):
     _ctype = struct_type('mjvFigure')
     _fields = ('flg_legend', 'flg_ticklabel', 'flg_extend', 'flg_barplot', 'flg_selection', 'flg_symmetric', 'linewidth', 'gridwidth', 'gridsize', 'gridrgb', 'figurergba', 'panergba', 'legendrgba', 'textrgb', 'linergb', 'range', 'xformat', 'yformat', 'minwidth', 'title', 'xlabel', 'linename', 'legendoffset', 'subplot', 'highlight', 'highlightid', 'selection', 'linepnt', 'linedata', 'xaxispixel', 'yaxispixel', 'xaxisdata', 'yaxisdata')
     _repr_fields = ('flg_legend', 'flg_ticklabel', 'flg_extend', 'flg_barplot', 'flg_selection', 'flg_symmetric', 'linewidth', 'gridwidth', 'gridsize', 'gridrgb', 'figurergba', 'panergba')
+    _bounds = {
+        'legendoffset': Bound(0, 100, 'len(linename)'),
+        'highlightid': Bound(-1, 99, 'an index into linepnt, -1: none'),
+    }
 
     def __init__(self):
         """A new mjvFigure, initialized by mjv_defaultFigure."""
