@@ -22,6 +22,7 @@ The tables below are the only special cases.
 import keyword
 import re
 import textwrap
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from . import outputs
@@ -300,27 +301,118 @@ BIND = {
     "mju_cholUpdate": ("mat",),
 }
 
-# Ids that MuJoCo follows without a bounds check: argument -> (lowest, count).
-IDS = {
-    **{name: {"body": (0, "m.nbody")} for name in (
-        "mj_jac", "mj_jacBody", "mj_jacBodyCom", "mj_jacSubtreeCom", "mj_jacPointAxis",
-        "mj_jacDot", "mj_angmomMat", "mj_applyFT")},
-    "mj_jacGeom": {"geom": (0, "m.ngeom")},
-    "mj_jacSite": {"site": (0, "m.nsite")},
-    "mj_insideSite": {"siteid": (0, "m.nsite")},
-    "mj_geomDistance": {"geom1": (0, "m.ngeom"), "geom2": (0, "m.ngeom")},
-    "mj_maxContact": {"g1": (0, "m.ngeom"), "g2": (0, "m.ngeom")},
-    "mj_rayHfield": {"geomid": (0, "m.ngeom")},
-    "mj_rayMesh": {"geomid": (0, "m.ngeom")},
-    "mj_ray": {"bodyexclude": (-1, "m.nbody")},
-    "mj_multiRay": {"bodyexclude": (-1, "m.nbody")},
-    "mj_contactForce": {"id": (0, "d.ncon")},
-    "mj_readCtrl": {"id": (0, "m.nu")},
-    "mj_initCtrlHistory": {"id": (0, "m.nu")},
-    "mj_readSensor": {"id": (0, "m.nsensor")},
-    "mj_initSensorHistory": {"id": (0, "m.nsensor")},
+# Object ids, derived from the declarations (derive_ids).  In a function that
+# takes an mjModel or mjData, an `int` argument is an object id when its name is an
+# object word of OBJECTS (or an ID_ALIASES prefix: g1, g2 are geoms), alone or
+# followed by `id`, `_id`, `exclude` or a digit (body, bodyexclude, flexid, geom1,
+# siteid, plugin_id), or when it is a plain `id` and the doc comment names the
+# object (its first object word: "for actuator", "given contact id", "from geom
+# id").  MuJoCo follows most ids unchecked, so each is checked against the count of
+# its object type, from 0, or from -1 (none) for an exclusion or where the comment
+# says "<name> ... -1".  An id whose range the comment states ("If 0 <= key <
+# nkey") is MuJoCo's to check, and so are those of ID_EXCEPTIONS.  An `objtype`,
+# `objid` pair is checked by `_marshal.object_id` against the count of the type.
+OBJECTS = {
+    "body": "m.nbody", "jnt": "m.njnt", "joint": "m.njnt", "dof": "m.nv", "geom": "m.ngeom",
+    "site": "m.nsite", "cam": "m.ncam", "camera": "m.ncam", "light": "m.nlight",
+    "flex": "m.nflex", "mesh": "m.nmesh", "skin": "m.nskin", "hfield": "m.nhfield",
+    "tex": "m.ntex", "texture": "m.ntex", "mat": "m.nmat", "material": "m.nmat",
+    "pair": "m.npair", "eq": "m.neq", "equality": "m.neq", "tendon": "m.ntendon",
+    "actuator": "m.nu", "sensor": "m.nsensor", "numeric": "m.nnumeric", "tuple": "m.ntuple",
+    "key": "m.nkey", "keyframe": "m.nkey", "plugin": "m.nplugin", "contact": "d.ncon",
+}
+ID_ALIASES = {"g": "geom"}
+
+# Ids derive_ids finds that are left to MuJoCo: (function, argument) -> why.
+ID_EXCEPTIONS = {
+    ("mj_id2name", "id"): "its object type is the `type` argument; MuJoCo checks the range "
+                          "and returns NULL (None), as in the official bindings",
+    ("mj_actuatorInputName", "id"): "MuJoCo checks it and returns NULL (None), as in the "
+                                    "official bindings",
+    ("mj_getPluginConfig", "plugin_id"): "MuJoCo checks it and returns NULL (None), as its "
+                                         "header says",
+    ("mj_contactForce", "id"): "MuJoCo checks it and leaves result zero, as in the official "
+                               "bindings",
+}
+
+# Bounds of scalar arguments that are not object ids: argument -> (lowest, count).
+BOUNDS = {
     "mju_threadpool": {"nthread": (0, "1025")},      # a sanity bound: a failed thread aborts
 }
+
+_ID_NAME = re.compile(r"^([a-z]+?)(?:_?id|exclude|[0-9])?$")
+
+
+def _id_object(func, arg, doc):
+    """The object type of int argument `arg`, if it is an object id, else None."""
+    if arg == "id":
+        words = re.findall(r"[a-z]+", doc.lower())
+        return next((w for w in words if w in OBJECTS), None) or "?"
+    match = _ID_NAME.match(arg)
+    if not match:
+        return None
+    word = ID_ALIASES.get(match.group(1), match.group(1))
+    if word not in OBJECTS or (word != match.group(1) and arg == match.group(1)):
+        return None                         # `g` alone is not an id
+    return word
+
+
+def derive_ids(decls, notes, skip=()):
+    """{function: {argument: (lowest, count)}}: the object ids MuJoCo does not check,
+    and BOUNDS; functions in `skip` (hand-written or unsupported) are left out."""
+    ids = {}
+    for name, func in decls.functions.items():
+        if name in skip:
+            continue
+        doc = notes.functions[name].doc if name in notes.functions else ""
+        if not any(a.type.base in ("mjModel", "mjData") for a in func.args):
+            continue                        # ids index a model: mjs_makeFlex's `equality` is a flag
+        for a in func.args:
+            t = a.type
+            if t.base != "int" or t.pointer or t.dims:
+                continue
+            word = _id_object(name, a.name, doc)
+            if word is None or (name, a.name) in ID_EXCEPTIONS:
+                continue
+            if word == "?":
+                raise ValueError(f"{name}: the object of argument `id` is not named in its "
+                                 f"doc comment; add it to ID_EXCEPTIONS or OBJECTS")
+            if re.search(rf"<=?\s*{a.name}\s*<|\b{a.name}\s*<\s*n", doc):
+                continue                    # the header states the range MuJoCo checks
+            low = -1 if a.name.endswith("exclude") or re.search(
+                rf"\b{a.name}\b[^.;]*-1", doc) else 0
+            ids.setdefault(name, {})[a.name] = (low, OBJECTS[word])
+    for name, bounds in BOUNDS.items():
+        ids.setdefault(name, {}).update(bounds)
+    return ids
+
+
+class _DerivedIds(Mapping):
+    """IDS: derive_ids of the installed headers, computed when first read (generate
+    fills it), so that tests can sweep the ids the generated code checks."""
+
+    def __init__(self):
+        self._table = None
+
+    def _get(self):
+        if self._table is None:
+            from . import comments, headers, parse
+            decls = parse.parse(headers.mujoco_declarations())
+            notes = comments.read(headers.header_texts())
+            self._table = derive_ids(decls, notes, set(OVERRIDES) | set(UNSUPPORTED))
+        return self._table
+
+    def __getitem__(self, key):
+        return self._get()[key]
+
+    def __iter__(self):
+        return iter(self._get())
+
+    def __len__(self):
+        return len(self._get())
+
+
+IDS = _DerivedIds()
 
 # Further checks before the call: statements over the converted arguments,
 # calling helpers of mjcffi/_marshal.py.
@@ -332,8 +424,11 @@ CHECKS = {
     "mj_addM": ["require(rownnz is None and rowadr is None and colind is None, "
                 "'mj_addM: only the dense form (rownnz, rowadr, colind None) is supported: "
                 "MuJoCo follows a given sparse structure unchecked')"],
-    "mj_objectVelocity": ["object_id(m, objtype, objid)"],
-    "mj_objectAcceleration": ["object_id(m, objtype, objid)"],
+    # MuJoCo reads m->plugin[m->geom_plugin[id]] unchecked: -1 for a geom without one
+    "mjc_getSDF": ["require(m.geom_plugin[id] >= 0, 'mjc_getSDF: the geom has no SDF plugin')"],
+    # the camera's fixedcamid / trackbodyid, where MuJoCo follows them unchecked
+    "mjv_cameraFrame": ["camera(model_of(@d, 'd'), cam, 'cam')"],
+    "mjv_camera2GLCamera": ["camera(m, cam, 'cam', fixed=False)"],
     "mju_strncpy": ["require(n > 0, 'dst must not be empty')"],
     "mju_Halton": ["index(base, 2 ** 31, 'base', 2)"],     # it divides by base, loops on 1
     # mjOBJ_UNKNOWN throws a C++ exception through the C API: the process aborts
@@ -392,6 +487,15 @@ NULLABLE = {
     "mjv_updateScene": ("pert",),              # the official bindings pass NULL too
 }
 
+# Pointers the header marks `Nullable:` that MuJoCo dereferences all the same (the
+# header is wrong; each found by calling the function with NULL there, on the
+# default scene): function -> {argument: why}.  They refuse None (TypeError).
+NOT_NULLABLE = {
+    "mjv_cameraFrame": {"forward": "MuJoCo reads forward to place headpos"},
+    **{"mjv_select": {name: "MuJoCo writes it unconditionally (*" + name + " = -1)"
+                      for name in ("geomid", "flexid", "skinid")}},
+}
+
 # Hand-written in mjcffi/_overrides.py: the documented Python signature
 # differs from C's, or the result is an MjModel/MjData (hand-written classes).
 OVERRIDES = {
@@ -414,6 +518,15 @@ OVERRIDES = {
     "mju_getLogConfig": "returns the public MjLogConfig class, which has get() and set()",
     "mju_getXMLDependencies": "mju_getXMLDependencies(filename) returns a list of str, as the "
                               "official bindings (the C API fills an mjStringVec)",
+    # lifetimes: memory that these calls free, or that MuJoCo keeps pointing to
+    "mjv_makeScene": "builds the scene in new memory: views of the old one keep it alive",
+    "mjv_freeScene": "gives the scene new, empty memory: views of the old one keep it alive",
+    "mjv_defaultScene": "as mjv_freeScene (MuJoCo would zero the scene and lose its buffers)",
+    "mj_mountVFS": "the VFS keeps the provider alive while MuJoCo holds a pointer to it",
+    "mj_unmountVFS": "the VFS lets go of the provider it kept alive",
+    "mj_deleteFileVFS": "it unmounts a provider at that path too: the VFS lets go of it",
+    "mju_malloc": "records the pointer, which only mju_free frees",
+    "mju_free": "frees only what mju_malloc returned, once",
 }
 
 _GL = "needs a current OpenGL context, which mjcffi does not create yet"
@@ -440,6 +553,12 @@ UNSUPPORTED = {
     "mjs_setUserValueWithCleanup": "it takes a C callback",
     "mjs_setPluginAttributes": "it takes a C++ std::map behind a void *",
     "mjs_bodyToFrame": "it frees the body it converts (mjsBody **)",
+    **{name: f"it {what}, to which Python wrappers and NumPy views may still point: MjSpec "
+             f"(issue 13) will do this safely" for name, what in (
+        ("mjs_delete", "frees the element (a body: its whole subtree)"),
+        ("mjs_fuseStatic", "frees the static bodies it fuses into their parents"),
+        ("mjs_discardVisual", "frees the visual elements it discards"),
+        ("mjs_dedupAssets", "frees the duplicate assets it merges"))},
     "mjui_add": "it takes an mjITEM_END-terminated array of mjuiDef",
     "mjui_addToSection": "it takes an mjITEM_END-terminated array of mjuiDef",
     "mjc_distance": "it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers",
@@ -469,7 +588,7 @@ UNSUPPORTED = {
 
 # Helpers of mjcffi/_marshal.py that SHAPES, CHECKS and RETURNS may call.
 _HELPERS = ("state_size", "band_size", "csr", "below", "require", "object_id", "index",
-            "copy_array", "fill", "NULL", "NUM")
+            "copy_array", "fill", "camera", "model_of", "NULL", "NUM")
 
 # C element type of a numeric array -> its Elem in mjcffi/_marshal.py.
 _ELEMS = {"mjtNum": "NUM", "double": "NUM", "float": "FLOAT", "int": "INT",
@@ -534,7 +653,8 @@ def _classify(arg, described, typedefs):
 
 
 def _args(func, note, described, typedefs):
-    nullable = set(note.nullable if note else ()) | set(NULLABLE.get(func.name, ()))
+    nullable = (set(note.nullable if note else ()) | set(NULLABLE.get(func.name, ()))) \
+        - set(NOT_NULLABLE.get(func.name, ()))
     renames = RENAMES.get(func.name, {})
     out = []
     for a in func.args:
@@ -577,6 +697,8 @@ class _Exprs:
             name = match.group(0)
             if name[0] in "'\"":
                 return name                         # a string literal
+            if name[0] == "@":
+                return name[1:]                     # @d: the Python argument itself
             if match.start() > 0 and match.string[match.start() - 1] == ".":
                 return name                         # an attribute: m.nv stays .nv
             if name in self.struct_names:
@@ -587,7 +709,7 @@ class _Exprs:
             if name in self.constants:
                 return str(self.constants[name])
             return name
-        return re.sub(r"'[^']*'|\"[^\"]*\"|[A-Za-z_]\w*", word, expr)
+        return re.sub(r"'[^']*'|\"[^\"]*\"|@?[A-Za-z_]\w*", word, expr)
 
 
 _VAR = re.compile(r"^(?:(\d+)\s*\*\s*)?([A-Za-z_]\w*)$")
@@ -688,7 +810,7 @@ def _signature(params, annotations=None):
 class _Function:
     """Writes one generated function."""
 
-    def __init__(self, func, note, described, typedefs, constants):
+    def __init__(self, func, note, described, typedefs, constants, ids=None):
         self.func = func
         self.name = func.name
         self.doc = note.doc if note else ""
@@ -705,6 +827,7 @@ class _Function:
             unknown = set(table.get(self.name, ())) - {a.name for a in self.args}
             if unknown:
                 raise ValueError(f"{name}[{self.name}] names unknown arguments {sorted(unknown)}")
+        self.ids = ids.get(self.name, {}) if ids is not None else {}
         self.lines = []
         self.notes = []
 
@@ -804,11 +927,19 @@ class _Function:
             message = _message(MESSAGES.get(self.name, {}).get(var))
             self.emit(f'{var} = _m.count({var}, "{var}"{message})')
         messages = MESSAGES.get(self.name, {})
-        for argname, (low, count) in IDS.get(self.name, {}).items():
-            py = next(a.py for a in self.args if a.name == argname)
-            self.emit(f'_m.index({py}, {self.expr(count)}, "{py}", {low}'
-                      f'{_message(messages.get(argname))})')
-            self.notes.append(f"{py} must be within {low}..{re.sub(r'^[md][.]', '', count)}-1.")
+        for argname, (low, count) in self.ids.items():
+            self._id_check(argname, low, count, messages.get(argname))
+        names = {a.name: a for a in self.args}
+        for a in self.args:            # the body, flex and skin an mjvPerturb selects
+            if a.kind == "struct" and a.base == "mjvPerturb" and any(
+                    b.base in ("mjModel", "mjData") and b.kind == "struct" for b in self.args):
+                self.emit(f'_m.perturb({self._model_expr()}, c_{a.py}, "{a.py}")')
+        if "objtype" in names and "objid" in names:
+            model = self._model_expr()
+            self.emit(f'_m.object_id({model}, {names["objtype"].py}, {names["objid"].py}, '
+                      f'"{names["objid"].py}")')
+            self.notes.append(f"{names['objid'].py} must be within 0..count-1 of its "
+                              f"{names['objtype'].py}.")
         self._arrays(sizes)
         for statement in CHECKS.get(self.name, ()):
             self.emit(self.expr(statement))
@@ -816,6 +947,31 @@ class _Function:
             self.emit("error, error_sz = _m.error_buffer()")
         self._call(errors, omit)
         return params
+
+    def _model_expr(self):
+        """The C mjModel of the call: its mjModel argument, or the model of its mjData."""
+        model = next((a for a in self.args if a.kind == "struct" and a.base == "mjModel"
+                      and not a.nullable), None)
+        if model is not None:
+            return f"c_{model.py}"
+        data = next((a for a in self.args if a.kind == "struct" and a.base == "mjData"), None)
+        if data is None:
+            raise ValueError(f"{self.name}: an id check needs an mjModel or mjData argument")
+        return f'_m.model_of({data.py}, "{data.py}")'
+
+    def _id_check(self, argname, low, count, message):
+        """One integer comparison on the fast path; _m.index converts, or raises IdError."""
+        py = next(a.py for a in self.args if a.name == argname)
+        if count.startswith("m."):
+            limit = f"{self._model_expr()}.{count[2:]}"
+        else:
+            limit = self.expr(count)
+        if limit.startswith("_m.model_of("):          # not a plain read: once
+            self.emit(f"limit_{py} = {limit}")
+            limit = f"limit_{py}"
+        self.emit(f"if {py}.__class__ is not int or not {low} <= {py} < {limit}:")
+        self.emit(f'    {py} = _m.index({py}, {limit}, "{py}", {low}{_message(message)})')
+        self.notes.append(f"{py} must be within {low}..{re.sub(r'^[md][.]', '', count)}-1.")
 
     def _structs(self):
         """Struct arguments; each mjData is checked against the function's mjModel."""
@@ -1042,8 +1198,9 @@ def _unsupported(func, note, reason, described, typedefs):
 def generate(decls, notes, described, header_texts):
     """{"mjcffi/_functions.py": text} for every function of the parsed headers."""
     constants = _defines(header_texts, decls)
-    for table in (SHAPES, KEEP, IDS, CHECKS, ERRORS, RETURNS, OWNED, RENAMES, OMIT,
-                  NULLABLE, OVERRIDES, UNSUPPORTED, MESSAGES, SIZED, BIND):
+    for table in (SHAPES, KEEP, BOUNDS, CHECKS, ERRORS, RETURNS, OWNED, RENAMES, OMIT,
+                  NULLABLE, NOT_NULLABLE, OVERRIDES, UNSUPPORTED, MESSAGES, SIZED, BIND,
+                  {f for f, _ in ID_EXCEPTIONS}):
         unknown = set(table) - set(decls.functions)
         if unknown:
             raise ValueError(f"special-case table names unknown functions {sorted(unknown)}")
@@ -1051,6 +1208,13 @@ def generate(decls, notes, described, header_texts):
     if both:
         raise ValueError(f"both overridden and unsupported: {sorted(both)}")
 
+    for name, args in NOT_NULLABLE.items():
+        marked = set(notes.functions[name].nullable) if name in notes.functions else set()
+        if set(args) - marked:
+            raise ValueError(f"NOT_NULLABLE[{name}]: {sorted(set(args) - marked)} are not "
+                             f"marked Nullable in the header")
+    ids = derive_ids(decls, notes, set(OVERRIDES) | set(UNSUPPORTED))
+    IDS._table = ids
     blocks = []
     for name, func in decls.functions.items():
         note = notes.functions.get(name)
@@ -1060,7 +1224,7 @@ def generate(decls, notes, described, header_texts):
             blocks.append(_unsupported(func, note, UNSUPPORTED[name], described,
                                        decls.typedefs))
             continue
-        writer = _Function(func, note, described, decls.typedefs, constants)
+        writer = _Function(func, note, described, decls.typedefs, constants, ids)
         reason = writer.unsupported_reason()
         if reason:
             raise ValueError(f"{name}: {reason}; add it to SHAPES, OVERRIDES or UNSUPPORTED")

@@ -14,32 +14,6 @@ from ._library import lib as _lib
 from ._arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private helpers)
 
 
-def mj_mountVFS(vfs, filepath, provider):
-    """mj_mountVFS(vfs: mujoco._structs.MjVFS, filepath: str, provider: mujoco._structs.MjpResourceProvider) -> int
-
-Mount a provider to handle file operations under the given path; return 0: success,
-2: repeated name, -1: invalid provider.
-"""
-    c_vfs = _m.struct(vfs, "mjVFS", "vfs")
-    c_provider = _m.struct(provider, "mjpResourceProvider", "provider")
-    c_filepath = _m.text(filepath, "filepath")
-    ret = _lib.mjcffi_guard_mj_mountVFS(c_vfs, c_filepath, c_provider)
-    _m.check_error()
-    return ret
-
-
-def mj_unmountVFS(vfs, filename):
-    """mj_unmountVFS(vfs: mujoco._structs.MjVFS, filename: str) -> int
-
-Unmount a previously mounted provider; return 0: success, -1: not found in VFS.
-"""
-    c_vfs = _m.struct(vfs, "mjVFS", "vfs")
-    c_filename = _m.text(filename, "filename")
-    ret = _lib.mjcffi_guard_mj_unmountVFS(c_vfs, c_filename)
-    _m.check_error()
-    return ret
-
-
 def mj_addFileVFS(vfs, directory, filename):
     """mj_addFileVFS(vfs: mujoco._structs.MjVFS, directory: str | None, filename: str) -> int
 
@@ -66,18 +40,6 @@ Add file to VFS from buffer; return 0: success, 2: repeated name, -1: failed to 
         ret = _lib.mjcffi_guard_mj_addBufferVFS(c_vfs, c_name, c_buffer, nbuffer)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_addBufferVFS", {"nbuffer": ("int", nbuffer)}) from None
-    _m.check_error()
-    return ret
-
-
-def mj_deleteFileVFS(vfs, filename):
-    """mj_deleteFileVFS(vfs: mujoco._structs.MjVFS, filename: str) -> int
-
-Delete file from VFS; return 0: success, -1: not found in VFS.
-"""
-    c_vfs = _m.struct(vfs, "mjVFS", "vfs")
-    c_filename = _m.text(filename, "filename")
-    ret = _lib.mjcffi_guard_mj_deleteFileVFS(c_vfs, c_filename)
     _m.check_error()
     return ret
 
@@ -1202,8 +1164,10 @@ g1 must be within 0..ngeom-1.
 g2 must be within 0..ngeom-1.
 """
     c_m = _m.struct(m, "mjModel", "m")
-    _m.index(g1, c_m.ngeom, "g1", 0)
-    _m.index(g2, c_m.ngeom, "g2", 0)
+    if g1.__class__ is not int or not 0 <= g1 < c_m.ngeom:
+        g1 = _m.index(g1, c_m.ngeom, "g1", 0)
+    if g2.__class__ is not int or not 0 <= g2 < c_m.ngeom:
+        g2 = _m.index(g2, c_m.ngeom, "g2", 0)
     try:
         ret = _lib.mjcffi_guard_mj_maxContact(c_m, g1, g2, has_margin)
     except (TypeError, OverflowError) as exc:
@@ -1374,7 +1338,8 @@ id must be within 0..nu-1.
 result: output array of shape (actuator_ctrlnum[id],).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(id, c_m.nu, "id", 0, 'actuator id out of range')
+    if id.__class__ is not int or not 0 <= id < c_m.nu:
+        id = _m.index(id, c_m.nu, "id", 0, 'actuator id out of range')
     result, c_result = _m.array_out(result, _m.NUM, "result", c_m.actuator_ctrlnum[id], 'result should have length actuator_ctrlnum[id]')
     try:
         ret = _lib.mjcffi_guard_mj_readCtrl(c_m, c_d, id, time, c_result, interp)
@@ -1397,7 +1362,8 @@ id must be within 0..nsensor-1.
 result: output array of shape (sensor_dim[id],).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(id, c_m.nsensor, "id", 0, 'sensor id out of range')
+    if id.__class__ is not int or not 0 <= id < c_m.nsensor:
+        id = _m.index(id, c_m.nsensor, "id", 0, 'sensor id out of range')
     result, c_result = _m.array_out(result, _m.NUM, "result", c_m.sensor_dim[id], 'result should have length sensor_dim[id]')
     try:
         ret = _lib.mjcffi_guard_mj_readSensor(c_m, c_d, id, time, c_result, interp)
@@ -1418,7 +1384,8 @@ times: array of shape (actuator_history[2*id],) or None.
 values: array of shape (actuator_history[2*id], actuator_ctrlnum[id]).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(id, c_m.nu, "id", 0, 'actuator id out of range')
+    if id.__class__ is not int or not 0 <= id < c_m.nu:
+        id = _m.index(id, c_m.nu, "id", 0, 'actuator id out of range')
     times, c_times = _m.opt_in(times, _m.NUM, "times", c_m.actuator_history[2*id], 'times should have length actuator_history[2*id]')
     values, c_values = _m.array_in(values, _m.NUM, "values", (c_m.actuator_history[2*id], c_m.actuator_ctrlnum[id]), 'values should have shape (actuator_history[2*id], actuator_ctrlnum[id])')
     try:
@@ -1439,7 +1406,8 @@ times: array of shape (sensor_history[2*id],) or None.
 values: array of shape (sensor_history[2*id], sensor_dim[id]).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(id, c_m.nsensor, "id", 0, 'sensor id out of range')
+    if id.__class__ is not int or not 0 <= id < c_m.nsensor:
+        id = _m.index(id, c_m.nsensor, "id", 0, 'sensor id out of range')
     times, c_times = _m.opt_in(times, _m.NUM, "times", c_m.sensor_history[2*id], 'times should have length sensor_history[2*id]')
     values, c_values = _m.array_in(values, _m.NUM, "values", (c_m.sensor_history[2*id], c_m.sensor_dim[id]), 'values should have shape (sensor_history[2*id], sensor_dim[id])')
     try:
@@ -1549,7 +1517,8 @@ jacr: output array of shape (3, nv) or None.
 point: array of shape (3,).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(body, c_m.nbody, "body", 0)
+    if body.__class__ is not int or not 0 <= body < c_m.nbody:
+        body = _m.index(body, c_m.nbody, "body", 0)
     jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
     jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     point, c_point = _m.array_in(point, _m.NUM, "point", 3)
@@ -1570,7 +1539,8 @@ jacp: output array of shape (3, nv) or None.
 jacr: output array of shape (3, nv) or None.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(body, c_m.nbody, "body", 0)
+    if body.__class__ is not int or not 0 <= body < c_m.nbody:
+        body = _m.index(body, c_m.nbody, "body", 0)
     jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
     jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     try:
@@ -1590,7 +1560,8 @@ jacp: output array of shape (3, nv) or None.
 jacr: output array of shape (3, nv) or None.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(body, c_m.nbody, "body", 0)
+    if body.__class__ is not int or not 0 <= body < c_m.nbody:
+        body = _m.index(body, c_m.nbody, "body", 0)
     jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
     jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     try:
@@ -1609,7 +1580,8 @@ body must be within 0..nbody-1.
 jacp: output array of shape (3, nv).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(body, c_m.nbody, "body", 0)
+    if body.__class__ is not int or not 0 <= body < c_m.nbody:
+        body = _m.index(body, c_m.nbody, "body", 0)
     jacp, c_jacp = _m.array_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
     try:
         status = _lib.mjcffi_guard_mj_jacSubtreeCom(c_m, c_d, c_jacp, body)
@@ -1628,7 +1600,8 @@ jacp: output array of shape (3, nv) or None.
 jacr: output array of shape (3, nv) or None.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(geom, c_m.ngeom, "geom", 0)
+    if geom.__class__ is not int or not 0 <= geom < c_m.ngeom:
+        geom = _m.index(geom, c_m.ngeom, "geom", 0)
     jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
     jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     try:
@@ -1648,7 +1621,8 @@ jacp: output array of shape (3, nv) or None.
 jacr: output array of shape (3, nv) or None.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(site, c_m.nsite, "site", 0)
+    if site.__class__ is not int or not 0 <= site < c_m.nsite:
+        site = _m.index(site, c_m.nsite, "site", 0)
     jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
     jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     try:
@@ -1670,7 +1644,8 @@ point: array of shape (3,).
 axis: array of shape (3,).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(body, c_m.nbody, "body", 0)
+    if body.__class__ is not int or not 0 <= body < c_m.nbody:
+        body = _m.index(body, c_m.nbody, "body", 0)
     jacPoint, c_jacPoint = _m.opt_out(jacPoint, _m.NUM, "jacPoint", (3, c_m.nv), 'jacp should be of shape (3, nv)')
     jacAxis, c_jacAxis = _m.opt_out(jacAxis, _m.NUM, "jacAxis", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     point, c_point = _m.array_in(point, _m.NUM, "point", 3)
@@ -1694,7 +1669,8 @@ jacr: output array of shape (3, nv) or None.
 point: array of shape (3,).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(body, c_m.nbody, "body", 0)
+    if body.__class__ is not int or not 0 <= body < c_m.nbody:
+        body = _m.index(body, c_m.nbody, "body", 0)
     jacp, c_jacp = _m.opt_out(jacp, _m.NUM, "jacp", (3, c_m.nv), 'jacp should be of shape (3, nv)')
     jacr, c_jacr = _m.opt_out(jacr, _m.NUM, "jacr", (3, c_m.nv), 'jacr should be of shape (3, nv)')
     point, c_point = _m.array_in(point, _m.NUM, "point", 3)
@@ -1714,7 +1690,8 @@ body must be within 0..nbody-1.
 mat: output array of shape (3, nv).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(body, c_m.nbody, "body", 0)
+    if body.__class__ is not int or not 0 <= body < c_m.nbody:
+        body = _m.index(body, c_m.nbody, "body", 0)
     mat, c_mat = _m.array_out(mat, _m.NUM, "mat", (3, c_m.nv), 'mat should be of shape (3, nv)')
     try:
         status = _lib.mjcffi_guard_mj_angmomMat(c_m, c_d, c_mat, body)
@@ -1842,7 +1819,8 @@ point: array of shape (3,).
 qfrc_target: output array of shape (nv,).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(body, c_m.nbody, "body", 0)
+    if body.__class__ is not int or not 0 <= body < c_m.nbody:
+        body = _m.index(body, c_m.nbody, "body", 0)
     qfrc_target, c_qfrc_target = _m.array_out(qfrc_target, _m.NUM, "qfrc_target", c_m.nv, 'qfrc_target should be of size nv')
     force, c_force = _m.opt_in(force, _m.NUM, "force", 3)
     torque, c_torque = _m.opt_in(torque, _m.NUM, "torque", 3)
@@ -1860,11 +1838,12 @@ def mj_objectVelocity(m, d, objtype, objid, res, flg_local):
 
 Compute object 6D velocity (rot:lin) in object-centered frame, world/local orientation.
 
+objid must be within 0..count-1 of its objtype.
 res: output array of shape (6,).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
+    _m.object_id(c_m, objtype, objid, "objid")
     res, c_res = _m.array_out(res, _m.NUM, "res", 6)
-    _m.object_id(c_m, objtype, objid)
     try:
         status = _lib.mjcffi_guard_mj_objectVelocity(c_m, c_d, objtype, objid, c_res, flg_local)
     except (TypeError, OverflowError) as exc:
@@ -1878,11 +1857,12 @@ def mj_objectAcceleration(m, d, objtype, objid, res, flg_local):
 
 Compute object 6D acceleration (rot:lin) in object-centered frame, world/local orientation.
 
+objid must be within 0..count-1 of its objtype.
 res: output array of shape (6,).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
+    _m.object_id(c_m, objtype, objid, "objid")
     res, c_res = _m.array_out(res, _m.NUM, "res", 6)
-    _m.object_id(c_m, objtype, objid)
     try:
         status = _lib.mjcffi_guard_mj_objectAcceleration(c_m, c_d, objtype, objid, c_res, flg_local)
     except (TypeError, OverflowError) as exc:
@@ -1901,8 +1881,10 @@ geom2 must be within 0..ngeom-1.
 fromto: output array of the size of (6,) or None.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(geom1, c_m.ngeom, "geom1", 0)
-    _m.index(geom2, c_m.ngeom, "geom2", 0)
+    if geom1.__class__ is not int or not 0 <= geom1 < c_m.ngeom:
+        geom1 = _m.index(geom1, c_m.ngeom, "geom1", 0)
+    if geom2.__class__ is not int or not 0 <= geom2 < c_m.ngeom:
+        geom2 = _m.index(geom2, c_m.ngeom, "geom2", 0)
     fromto, c_fromto = _m.opt_out(fromto, _m.NUM, "fromto")
     _m.size(fromto, 6, "fromto", 'fromto should be of size 6')
     try:
@@ -1923,7 +1905,8 @@ siteid must be within 0..nsite-1.
 point: array of shape (3,).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(siteid, c_m.nsite, "siteid", 0)
+    if siteid.__class__ is not int or not 0 <= siteid < c_m.nsite:
+        siteid = _m.index(siteid, c_m.nsite, "siteid", 0)
     point, c_point = _m.array_in(point, _m.NUM, "point", 3)
     try:
         ret = _lib.mjcffi_guard_mj_insideSite(c_m, c_d, siteid, c_point)
@@ -1938,11 +1921,9 @@ def mj_contactForce(m, d, id, result):
 
 Extract 6D force:torque given contact id, in the contact frame.
 
-id must be within 0..ncon-1.
 result: output array of shape (6,).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(id, c_d.ncon, "id", 0)
     result, c_result = _m.array_out(result, _m.NUM, "result", 6)
     try:
         status = _lib.mjcffi_guard_mj_contactForce(c_m, c_d, id, c_result)
@@ -2007,12 +1988,16 @@ def mj_local2Global(d, xpos, xmat, pos, quat, body, sameframe):
 
 Map from body local to global Cartesian coordinates, sameframe takes values from mjtSameFrame.
 
+body must be within 0..nbody-1.
 xpos: output array of shape (3,).
 xmat: output array of shape (9,).
 pos: array of shape (3,).
 quat: array of shape (4,).
 """
     c_d = _m.struct(d, "mjData", "d")
+    limit_body = _m.model_of(d, "d").nbody
+    if body.__class__ is not int or not 0 <= body < limit_body:
+        body = _m.index(body, limit_body, "body", 0)
     xpos, c_xpos = _m.array_out(xpos, _m.NUM, "xpos", 3)
     xmat, c_xmat = _m.array_out(xmat, _m.NUM, "xmat", 9)
     pos, c_pos = _m.array_in(pos, _m.NUM, "pos", 3)
@@ -2124,7 +2109,8 @@ geomid: output array of shape (1,) or None.
 normal: output array of shape (3,) or None.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(bodyexclude, c_m.nbody, "bodyexclude", -1)
+    if bodyexclude.__class__ is not int or not -1 <= bodyexclude < c_m.nbody:
+        bodyexclude = _m.index(bodyexclude, c_m.nbody, "bodyexclude", -1)
     pnt, c_pnt = _m.array_in(pnt, _m.NUM, "pnt", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     geomgroup, c_geomgroup = _m.opt_in(geomgroup, _m.BYTE, "geomgroup", 6)
@@ -2157,7 +2143,8 @@ normal: output array of the size of (nray, 3) or None.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
     nray = _m.count(nray, "nray")
-    _m.index(bodyexclude, c_m.nbody, "bodyexclude", -1)
+    if bodyexclude.__class__ is not int or not -1 <= bodyexclude < c_m.nbody:
+        bodyexclude = _m.index(bodyexclude, c_m.nbody, "bodyexclude", -1)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec")
     _m.size(vec, (nray) * 3, "vec", 'vec should be of size 3*nray')
     normal, c_normal = _m.opt_out(normal, _m.NUM, "normal")
@@ -2188,7 +2175,8 @@ vec: array of shape (3,).
 normal: output array of shape (3,) or None.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(geomid, c_m.ngeom, "geomid", 0)
+    if geomid.__class__ is not int or not 0 <= geomid < c_m.ngeom:
+        geomid = _m.index(geomid, c_m.ngeom, "geomid", 0)
     pnt, c_pnt = _m.array_in(pnt, _m.NUM, "pnt", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     normal, c_normal = _m.opt_out(normal, _m.NUM, "normal", 3)
@@ -2211,7 +2199,8 @@ vec: array of shape (3,).
 normal: output array of shape (3,) or None.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
-    _m.index(geomid, c_m.ngeom, "geomid", 0)
+    if geomid.__class__ is not int or not 0 <= geomid < c_m.ngeom:
+        geomid = _m.index(geomid, c_m.ngeom, "geomid", 0)
     pnt, c_pnt = _m.array_in(pnt, _m.NUM, "pnt", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     normal, c_normal = _m.opt_out(normal, _m.NUM, "normal", 3)
@@ -2255,12 +2244,15 @@ def mj_rayFlex(m, d, flex_layer, flg_vert, flg_edge, flg_face, flg_skin, flexid,
 Intersect ray with flex; return nearest distance or -1 if no intersection,
 and also output nearest vertex id and surface normal.
 
+flexid must be within 0..nflex-1.
 pnt: array of shape (3,).
 vec: array of shape (3,).
 vertid: output array of shape (1,) or None.
 normal: output array of shape (3,) or None.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
+    if flexid.__class__ is not int or not 0 <= flexid < c_m.nflex:
+        flexid = _m.index(flexid, c_m.nflex, "flexid", 0)
     pnt, c_pnt = _m.array_in(pnt, _m.NUM, "pnt", 3)
     vec, c_vec = _m.array_in(vec, _m.NUM, "vec", 3)
     vertid, c_vertid = _m.opt_out(vertid, _m.INT, "vertid", 1)
@@ -2462,6 +2454,7 @@ Move perturb object with mouse; action is mjtMouse.
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_scn = _m.struct(scn, "mjvScene", "scn")
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
+    _m.perturb(c_m, c_pert, "pert")
     try:
         status = _lib.mjcffi_guard_mjv_movePerturb(c_m, c_d, action, reldx, reldy, c_scn, c_pert)
     except (TypeError, OverflowError) as exc:
@@ -2496,6 +2489,7 @@ Copy perturb pos,quat from selected body; set scale for perturbation.
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_scn = _m.struct(scn, "mjvScene", "scn")
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
+    _m.perturb(c_m, c_pert, "pert")
     status = _lib.mjcffi_guard_mjv_initPerturb(c_m, c_d, c_scn, c_pert)
     _m.check(status)
 
@@ -2508,6 +2502,7 @@ Write d->qpos only if flg_paused and subtree root for selected body has free joi
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
+    _m.perturb(c_m, c_pert, "pert")
     try:
         status = _lib.mjcffi_guard_mjv_applyPerturbPose(c_m, c_d, c_pert, flg_paused)
     except (TypeError, OverflowError) as exc:
@@ -2523,6 +2518,7 @@ Set perturb force,torque in d->xfrc_applied, if selected body is dynamic.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
+    _m.perturb(c_m, c_pert, "pert")
     status = _lib.mjcffi_guard_mjv_applyPerturbForce(c_m, c_d, c_pert)
     _m.check(status)
 
@@ -2546,28 +2542,29 @@ Converts a mjvCamera to a mjvGLCamera.
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_cam = _m.struct(cam, "mjvCamera", "cam")
+    _m.camera(c_m, c_cam, 'cam', fixed=False)
     ret = _lib.mjcffi_guard_mjv_camera2GLCamera(c_m, c_d, c_cam)
     _m.check_error()
     return _m.struct_copy(_structs.MjvGLCamera, ret)
 
 
-def mjv_select(m, d, vopt, aspectratio, relx, rely, scn, selpnt, geomid=None, flexid=None, skinid=None):
-    """mjv_select(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, vopt: mujoco._structs.MjvOption, aspectratio: float, relx: float, rely: float, scn: mujoco._structs.MjvScene, selpnt: numpy.typing.NDArray[numpy.float64], geomid: numpy.typing.NDArray[numpy.int32] | None = None, flexid: numpy.typing.NDArray[numpy.int32] | None = None, skinid: numpy.typing.NDArray[numpy.int32] | None = None) -> int
+def mjv_select(m, d, vopt, aspectratio, relx, rely, scn, selpnt, geomid, flexid, skinid):
+    """mjv_select(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, vopt: mujoco._structs.MjvOption, aspectratio: float, relx: float, rely: float, scn: mujoco._structs.MjvScene, selpnt: numpy.typing.NDArray[numpy.float64], geomid: numpy.typing.NDArray[numpy.int32], flexid: numpy.typing.NDArray[numpy.int32], skinid: numpy.typing.NDArray[numpy.int32]) -> int
 
 Select geom, flex or skin with mouse; return bodyid; -1: none selected.
 
 selpnt: output array of shape (3,).
-geomid: output array of shape (1,) or None.
-flexid: output array of shape (1,) or None.
-skinid: output array of shape (1,) or None.
+geomid: output array of shape (1,).
+flexid: output array of shape (1,).
+skinid: output array of shape (1,).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_vopt = _m.struct(vopt, "mjvOption", "vopt")
     c_scn = _m.struct(scn, "mjvScene", "scn")
     selpnt, c_selpnt = _m.array_out(selpnt, _m.NUM, "selpnt", 3)
-    geomid, c_geomid = _m.opt_out(geomid, _m.INT, "geomid", 1)
-    flexid, c_flexid = _m.opt_out(flexid, _m.INT, "flexid", 1)
-    skinid, c_skinid = _m.opt_out(skinid, _m.INT, "skinid", 1)
+    geomid, c_geomid = _m.array_out(geomid, _m.INT, "geomid", 1)
+    flexid, c_flexid = _m.array_out(flexid, _m.INT, "flexid", 1)
+    skinid, c_skinid = _m.array_out(skinid, _m.INT, "skinid", 1)
     try:
         ret = _lib.mjcffi_guard_mjv_select(
             c_m, c_d, c_vopt, aspectratio, relx, rely, c_scn, c_selpnt, c_geomid, c_flexid,
@@ -2643,40 +2640,6 @@ to: array of shape (3,).
     _m.check(status)
 
 
-def mjv_defaultScene(scn):
-    """mjv_defaultScene(scn: mujoco._structs.MjvScene) -> None
-
-Set default abstract scene.
-"""
-    c_scn = _m.struct(scn, "mjvScene", "scn")
-    status = _lib.mjcffi_guard_mjv_defaultScene(c_scn)
-    _m.check(status)
-
-
-def mjv_makeScene(m, scn, maxgeom):
-    """mjv_makeScene(m: mujoco._structs.MjModel, scn: mujoco._structs.MjvScene, maxgeom: int) -> None
-
-Allocate resources in abstract scene.
-"""
-    c_m = _m.struct(m, "mjModel", "m")
-    c_scn = _m.struct(scn, "mjvScene", "scn")
-    try:
-        status = _lib.mjcffi_guard_mjv_makeScene(c_m, c_scn, maxgeom)
-    except (TypeError, OverflowError) as exc:
-        raise _m.scalar_error(exc, "mjv_makeScene", {"maxgeom": ("int", maxgeom)}) from None
-    _m.check(status)
-
-
-def mjv_freeScene(scn):
-    """mjv_freeScene(scn: mujoco._structs.MjvScene) -> None
-
-Free abstract scene.
-"""
-    c_scn = _m.struct(scn, "mjvScene", "scn")
-    status = _lib.mjcffi_guard_mjv_freeScene(c_scn)
-    _m.check(status)
-
-
 def mjv_updateScene(m, d, opt, pert, cam, catmask, scn):
     """mjv_updateScene(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, opt: mujoco._structs.MjvOption, pert: mujoco._structs.MjvPerturb | None, cam: mujoco._structs.MjvCamera, catmask: int, scn: mujoco._structs.MjvScene) -> None
 
@@ -2687,6 +2650,7 @@ Update entire scene given model state.
     c_pert = _m.opt_struct(pert, "mjvPerturb", "pert")
     c_cam = _m.struct(cam, "mjvCamera", "cam")
     c_scn = _m.struct(scn, "mjvScene", "scn")
+    _m.perturb(c_m, c_pert, "pert")
     try:
         status = _lib.mjcffi_guard_mjv_updateScene(c_m, c_d, c_opt, c_pert, c_cam, catmask, c_scn)
     except (TypeError, OverflowError) as exc:
@@ -2715,6 +2679,7 @@ Add geoms from selected categories.
     c_opt = _m.struct(opt, "mjvOption", "opt")
     c_pert = _m.struct(pert, "mjvPerturb", "pert")
     c_scn = _m.struct(scn, "mjvScene", "scn")
+    _m.perturb(c_m, c_pert, "pert")
     try:
         status = _lib.mjcffi_guard_mjv_addGeoms(c_m, c_d, c_opt, c_pert, catmask, c_scn)
     except (TypeError, OverflowError) as exc:
@@ -2757,21 +2722,22 @@ Update skins.
 
 
 def mjv_cameraFrame(headpos, forward, up, right, d, cam):
-    """mjv_cameraFrame(headpos: numpy.typing.NDArray[numpy.float64] | None, forward: numpy.typing.NDArray[numpy.float64] | None, up: numpy.typing.NDArray[numpy.float64] | None, right: numpy.typing.NDArray[numpy.float64] | None, d: mujoco._structs.MjData, cam: mujoco._structs.MjvCamera) -> None
+    """mjv_cameraFrame(headpos: numpy.typing.NDArray[numpy.float64] | None, forward: numpy.typing.NDArray[numpy.float64], up: numpy.typing.NDArray[numpy.float64] | None, right: numpy.typing.NDArray[numpy.float64] | None, d: mujoco._structs.MjData, cam: mujoco._structs.MjvCamera) -> None
 
 Compute camera position and forward, up, and right vectors.
 
 headpos: output array of shape (3,) or None.
-forward: output array of shape (3,) or None.
+forward: output array of shape (3,).
 up: output array of shape (3,) or None.
 right: output array of shape (3,) or None.
 """
     c_d = _m.struct(d, "mjData", "d")
     c_cam = _m.struct(cam, "mjvCamera", "cam")
     headpos, c_headpos = _m.opt_out(headpos, _m.NUM, "headpos", 3)
-    forward, c_forward = _m.opt_out(forward, _m.NUM, "forward", 3)
+    forward, c_forward = _m.array_out(forward, _m.NUM, "forward", 3)
     up, c_up = _m.opt_out(up, _m.NUM, "up", 3)
     right, c_right = _m.opt_out(right, _m.NUM, "right", 3)
+    _m.camera(_m.model_of(d, 'd'), c_cam, 'cam')
     status = _lib.mjcffi_guard_mjv_cameraFrame(c_headpos, c_forward, c_up, c_right, c_d, c_cam)
     _m.check(status)
 
@@ -3289,29 +3255,6 @@ Dispatch a structured log message to the active handler.
 """
     c_msg = _m.struct(msg, "mjLogMessage", "msg")
     status = _lib.mjcffi_guard_mju_message(c_msg)
-    _m.check(status)
-
-
-def mju_malloc(size):
-    """mju_malloc(size: int) -> Any
-
-Allocate memory; byte-align on 64; pad size to multiple of 64.
-"""
-    try:
-        ret = _lib.mjcffi_guard_mju_malloc(size)
-    except (TypeError, OverflowError) as exc:
-        raise _m.scalar_error(exc, "mju_malloc", {"size": ("size_t", size)}) from None
-    _m.check_error()
-    return None if ret == _m.NULL else ret
-
-
-def mju_free(ptr):
-    """mju_free(ptr: bytearray) -> None
-
-Free memory, using free() by default.
-"""
-    c_ptr = _m.opaque(ptr, "ptr", False)
-    status = _lib.mjcffi_guard_mju_free(c_ptr)
     _m.check(status)
 
 
@@ -5291,8 +5234,13 @@ def mjc_getSDF(m, id):
     """mjc_getSDF(m: mujoco._structs.MjModel, id: int) -> mujoco._structs.MjpPlugin
 
 get sdf from geom id
+
+id must be within 0..ngeom-1.
 """
     c_m = _m.struct(m, "mjModel", "m")
+    if id.__class__ is not int or not 0 <= id < c_m.ngeom:
+        id = _m.index(id, c_m.ngeom, "id", 0)
+    _m.require(c_m.geom_plugin[id] >= 0, 'mjc_getSDF: the geom has no SDF plugin')
     try:
         ret = _lib.mjcffi_guard_mjc_getSDF(c_m, id)
     except (TypeError, OverflowError) as exc:
@@ -5785,7 +5733,8 @@ Create a thread pool with nthread worker threads.
 nthread must be within 0..1025-1.
 """
     c_d = _m.struct(d, "mjData", "d")
-    _m.index(nthread, 1025, "nthread", 0)
+    if nthread.__class__ is not int or not 0 <= nthread < 1025:
+        nthread = _m.index(nthread, 1025, "nthread", 0)
     try:
         status = _lib.mjcffi_guard_mju_threadpool(c_d, nthread)
     except (TypeError, OverflowError) as exc:
@@ -5903,15 +5852,16 @@ Add frame to body.
 
 
 def mjs_delete(spec, element):
-    """mjs_delete(spec: mujoco._structs.MjSpec, element: mujoco._structs.MjsElement) -> int
+    """mjs_delete(spec: mujoco._structs.MjSpec, element: mujoco._structs.MjsElement) -> None
 
 Remove object corresponding to the given element; return 0 on success.
+
+Not available in mjcffi: it frees the element (a body: its whole subtree), to which Python
+wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely.
+The raw C function is mjcffi.lib.mjs_delete.
 """
-    c_spec = _m.struct(spec, "mjSpec", "spec")
-    c_element = _m.struct(element, "mjsElement", "element")
-    ret = _lib.mjcffi_guard_mjs_delete(c_spec, c_element)
-    _m.check_error()
-    return ret
+    raise NotImplementedError(
+        'mjs_delete: it frees the element (a body: its whole subtree), to which Python wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely')
 
 
 def mjs_addActuator(s, def_=None):
@@ -7001,39 +6951,43 @@ quat: output array of shape (4,).
 
 
 def mjs_fuseStatic(s, vfs=None):
-    """mjs_fuseStatic(s: mujoco._structs.MjSpec, vfs: mujoco._structs.MjVFS | None = None) -> int
+    """mjs_fuseStatic(s: mujoco._structs.MjSpec, vfs: mujoco._structs.MjVFS | None = None) -> None
 
 Fuse the static bodies of the spec with their parents; return the number fused, -1 on error.
+
+Not available in mjcffi: it frees the static bodies it fuses into their parents, to which
+Python wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely.
+The raw C function is mjcffi.lib.mjs_fuseStatic.
 """
-    c_s = _m.struct(s, "mjSpec", "s")
-    c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
-    ret = _lib.mjcffi_guard_mjs_fuseStatic(c_s, c_vfs)
-    _m.check_error()
-    return ret
+    raise NotImplementedError(
+        'mjs_fuseStatic: it frees the static bodies it fuses into their parents, to which Python wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely')
 
 
 def mjs_discardVisual(s, vfs=None):
-    """mjs_discardVisual(s: mujoco._structs.MjSpec, vfs: mujoco._structs.MjVFS | None = None) -> int
+    """mjs_discardVisual(s: mujoco._structs.MjSpec, vfs: mujoco._structs.MjVFS | None = None) -> None
 
 Discard the visual elements of the spec; return the number discarded, -1 on error.
+
+Not available in mjcffi: it frees the visual elements it discards, to which Python wrappers
+and NumPy views may still point: MjSpec (issue 13) will do this safely.
+The raw C function is mjcffi.lib.mjs_discardVisual.
 """
-    c_s = _m.struct(s, "mjSpec", "s")
-    c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
-    ret = _lib.mjcffi_guard_mjs_discardVisual(c_s, c_vfs)
-    _m.check_error()
-    return ret
+    raise NotImplementedError(
+        'mjs_discardVisual: it frees the visual elements it discards, to which Python wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely')
 
 
 def mjs_dedupAssets(s):
-    """mjs_dedupAssets(s: mujoco._structs.MjSpec) -> int
+    """mjs_dedupAssets(s: mujoco._structs.MjSpec) -> None
 
 Merge the textures and meshes of the spec which would compile to the same asset; return the number
 merged, -1 on error.
+
+Not available in mjcffi: it frees the duplicate assets it merges, to which Python wrappers
+and NumPy views may still point: MjSpec (issue 13) will do this safely.
+The raw C function is mjcffi.lib.mjs_dedupAssets.
 """
-    c_s = _m.struct(s, "mjSpec", "s")
-    ret = _lib.mjcffi_guard_mjs_dedupAssets(c_s)
-    _m.check_error()
-    return ret
+    raise NotImplementedError(
+        'mjs_dedupAssets: it frees the duplicate assets it merges, to which Python wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely')
 
 
 def mjs_adoptInertial(body, vfs=None):

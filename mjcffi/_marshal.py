@@ -29,6 +29,7 @@ the flag of a stashed callback error) and NumPy.
 
 import operator
 import os
+import reprlib
 from typing import NamedTuple
 
 import numpy as np
@@ -36,11 +37,12 @@ import numpy as np
 from . import _errors
 from . import callbacks as _callbacks
 from ._errors import FatalError  # noqa: F401  (raised by the generated functions)
-from ._errors import with_note
+from ._errors import ArgumentError, IdError, with_note  # noqa: F401  (also for _functions)
 from ._library import ffi, lib
 from ._views import DTYPES
 
 NULL = ffi.NULL
+_INT_MAX = 2 ** 31 - 1
 _ERROR_SIZE = 1024          # as the official bindings: MuJoCo's messages are shorter
 
 
@@ -95,17 +97,26 @@ def scalar_error(exc, func, scalars):
 
     `scalars` maps argument name -> (C type, value).  cffi's own messages
     ("an integer is required") do not say which argument was wrong, so each
-    is tried again alone; `exc` itself comes back when none fails.
+    is tried again alone: a wrong type is a TypeError, a number that does not
+    fit in its C type a ValueError (never OverflowError), each naming the
+    argument.  None is tried first: `ffi.new` would take it as "no initializer".
     """
+    for name, (ctype, value) in scalars.items():
+        if value is None:
+            return TypeError(f"{func}(): {name} must be a number (C {ctype}), not None")
     for name, (ctype, value) in scalars.items():
         try:
             ffi.new(ctype + " *", value)
         except OverflowError:
-            return ValueError(f"{func}(): {name}={value!r} does not fit in a C {ctype}")
+            return ValueError(f"{func}(): {name}={reprlib.repr(value)} does not fit in a "
+                              f"C {ctype}")
         except TypeError:
             return TypeError(f"{func}(): {name} must be a number (C {ctype}), "
                              f"not {type(value).__name__}")
-    return exc
+    names = ", ".join(scalars)                # none fails alone: name them all
+    if isinstance(exc, OverflowError):
+        return ValueError(f"{func}(): a value does not fit in its C type ({names}): {exc}")
+    return TypeError(f"{func}(): a scalar argument was refused ({names}): {exc}")
 
 
 # ---------------------------------------------------------------- structs
@@ -127,11 +138,17 @@ def struct(value, cname, name):
     as MjsBody.element are raw pointers), but never NULL.
     """
     if getattr(value, "_cname", None) == cname:
-        return value._ptr
+        try:
+            return value._ptr
+        except AttributeError:           # the class itself, not an instance
+            pass
     if isinstance(value, ffi.CData) and ffi.typeof(value) is _pointer_type(cname):
         if value == NULL:
             raise ValueError(f"{name} must not be NULL")
         return value
+    if isinstance(value, type):
+        raise TypeError(f"{name} must be {_struct_title(cname)}, not the class "
+                        f"{value.__name__} itself")
     raise TypeError(f"{name} must be {_struct_title(cname)}, not {type(value).__name__}")
 
 
@@ -180,12 +197,22 @@ def model_data(m, d, mname="m", dname="d"):
     return struct(m, "mjModel", mname), data_of(m, d, mname, dname)
 
 
+class _Raw:
+    """A raw C pointer where a wrapper is expected (its `_ptr`)."""
+    __slots__ = ("_ptr",)
+
+    def __init__(self, pointer):
+        self._ptr = pointer
+
+
 def data_of(m, d, mname="m", dname="d"):
     """The C pointer of MjData `d`, checked against MjModel `m` (already checked)."""
     pointer = struct(d, "mjData", dname)
     model = getattr(d, "_model", None)
     if model is None or model is m:
         return pointer           # a wrapper that does not know its model: trust it
+    if isinstance(m, ffi.CData):
+        m = _Raw(m)              # a raw mjModel * is taken too
     if ffi.buffer(model._ptr, _SIZES)[:] != ffi.buffer(m._ptr, _SIZES)[:]:
         raise ValueError(f"{dname} was made for a model of other sizes than {mname} "
                          f"(nq {model._ptr.nq} vs {m._ptr.nq}, nv {model._ptr.nv} vs "
@@ -233,26 +260,6 @@ def error_text(buffer, func):
 
 # ----------------------------------------------------------------- arrays
 
-# A bad argument raises what the official bindings raise: TypeError (pybind11
-# refuses what it cannot convert, and their own size checks raise TypeError too),
-# with the official message where they have one of their own.  These classes are
-# also ValueError, which mjcffi raised before, so that code catching either works,
-# as NumPy's AxisError is both ValueError and IndexError.
-
-class ArgumentError(TypeError, ValueError):
-    """An argument of the wrong type, dtype, shape, size or memory layout.
-
-    A TypeError, as in the official bindings, and a ValueError, as in mjcffi
-    before it followed them.  The official message, where the official bindings
-    have one of their own, is str(exc); the shape expected is in a note.
-    """
-
-
-class IdError(IndexError, ValueError):
-    """An id argument out of range: an IndexError (as the official bindings raise
-    for the ids they check), and a ValueError (as mjcffi raised before)."""
-
-
 def _official(message, axis):
     """The official message for a failure along `axis`: `message` is a str, or
     ((axis, message), ...) in the order the official bindings check the axes."""
@@ -281,7 +288,7 @@ def _convert(value, dtype, name):
         raise ArgumentError(f"{name} must be an array, not None")
     try:
         return np.ascontiguousarray(value, dtype=dtype)
-    except (TypeError, ValueError) as exc:
+    except (TypeError, ValueError, OverflowError) as exc:    # 2**40 for an int32 array
         raise ArgumentError(f"{name} cannot be converted to a {dtype} array: {exc}") from None
 
 
@@ -492,20 +499,68 @@ def count(value, name, message=None):
     if value < 0:
         detail = f"{name} must not be negative, got {value}"
         raise ValueError(detail) if message is None else with_note(ValueError(message), detail)
+    if value > _INT_MAX:
+        raise ValueError(f"{name}={reprlib.repr(value)} does not fit in a C int")
     return value
 
 
+# mjtObj -> the mjModel count of its objects (mjOBJ_XBODY counts bodies).
+_OBJECT_COUNTS = (
+    ("BODY", "nbody"), ("XBODY", "nbody"), ("JOINT", "njnt"), ("DOF", "nv"), ("GEOM", "ngeom"),
+    ("SITE", "nsite"), ("CAMERA", "ncam"), ("LIGHT", "nlight"), ("FLEX", "nflex"),
+    ("MESH", "nmesh"), ("SKIN", "nskin"), ("HFIELD", "nhfield"), ("TEXTURE", "ntex"),
+    ("MATERIAL", "nmat"), ("PAIR", "npair"), ("EXCLUDE", "nexclude"), ("EQUALITY", "neq"),
+    ("TENDON", "ntendon"), ("ACTUATOR", "nu"), ("SENSOR", "nsensor"), ("NUMERIC", "nnumeric"),
+    ("TEXT", "ntext"), ("TUPLE", "ntuple"), ("KEY", "nkey"), ("PLUGIN", "nplugin"))
+_COUNT_OF: dict = {}
+
+
 def object_id(model, objtype, objid, name="objid"):
-    """Check `objid` against the count of its `objtype` (others are MuJoCo's to refuse)."""
+    """Check `objid` against the count of its `objtype` (an unknown type is MuJoCo's
+    to refuse); `model` is the C mjModel."""
+    if not _COUNT_OF:
+        _COUNT_OF.update({getattr(lib, "mjOBJ_" + kind): field
+                          for kind, field in _OBJECT_COUNTS if hasattr(lib, "mjOBJ_" + kind)})
     try:
         objtype = operator.index(objtype)
     except TypeError:
         return                   # cffi refuses it, and scalar_error names it
-    # mjOBJ_BODY, mjOBJ_XBODY, mjOBJ_GEOM, mjOBJ_SITE, mjOBJ_CAMERA: the types these accept
-    counts = {1: model.nbody, 2: model.nbody, 5: model.ngeom, 6: model.nsite, 7: model.ncam}
-    limit = counts.get(objtype)
-    if limit is not None:
-        index(objid, limit, name)
+    field = _COUNT_OF.get(objtype)
+    if field is not None:
+        index(objid, getattr(model, field), name)
+
+
+def model_of(data, name="d"):
+    """The C mjModel that MjData `data` was made for (for ids of d-only functions)."""
+    model = getattr(data, "_model", None)
+    if model is None:
+        raise TypeError(f"{name} must be an MjData that knows its model (made by MjData(m)), "
+                        f"not {type(data).__name__}: its ids cannot be checked otherwise")
+    return model._ptr
+
+
+def camera(model, cam, name="cam", fixed=True):
+    """The ids an mjvCamera `cam` (its C pointer) holds for its type, within C mjModel
+    `model`: a tracking camera's trackbodyid and, unless `fixed` is False (MuJoCo
+    checks it), a fixed camera's fixedcamid."""
+    kind = cam.type
+    if kind == lib.mjCAMERA_FIXED and fixed:
+        index(cam.fixedcamid, model.ncam, name + ".fixedcamid")
+    elif kind == lib.mjCAMERA_TRACKING:
+        index(cam.trackbodyid, model.nbody, name + ".trackbodyid", -1)
+
+
+def perturb(model, pert, name="pert"):
+    """The ids an mjvPerturb (its C pointer, or NULL) selects, which MuJoCo follows
+    unchecked when they are not negative: body, flex and skin."""
+    if pert == NULL:
+        return
+    for field, count in (("select", model.nbody), ("flexselect", model.nflex),
+                         ("skinselect", model.nskin)):
+        value = getattr(pert, field)
+        if value >= count:
+            raise IdError(f"{name}.{field}={value} is out of range: {name}.{field} < {count} "
+                          f"(or negative: none)")
 
 
 def require(condition, message):
@@ -554,8 +609,7 @@ def state_size(model, sig, name="sig"):
 def band_size(ntotal, nband, ndense):
     """Elements of a band-dense matrix (mju_cholFactorBand), its sizes checked."""
     for name, value in (("ntotal", ntotal), ("nband", nband), ("ndense", ndense)):
-        if operator.index(value) < 0:
-            raise ValueError(f"{name} must not be negative")
+        count(value, name)
     if ndense > ntotal or nband > ntotal - ndense:
         raise ValueError(f"need ndense <= ntotal and nband <= ntotal - ndense, got "
                          f"ntotal={ntotal}, nband={nband}, ndense={ndense}")

@@ -21,12 +21,15 @@ from ._library import ffi, lib
 __all__ = ["mj_step", "mj_forward", "mj_loadXML", "mj_loadModel", "mj_loadModelBuffer",
            "mj_compile", "mj_copyModel", "mj_embedAssets", "mj_makeData", "mj_defaultVFS",
            "mj_deleteVFS", "mj_loadTexture", "mj_saveXMLString", "mj_printSchema",
-           "mjs_getDouble", "mjr_findRect", "mju_getXMLDependencies", "mju_getLogConfig"]
+           "mjs_getDouble", "mjr_findRect", "mju_getXMLDependencies", "mju_getLogConfig",
+           "mjv_makeScene", "mjv_freeScene", "mjv_defaultScene", "mj_mountVFS", "mj_unmountVFS",
+           "mj_deleteFileVFS", "mju_malloc", "mju_free"]
 
 _step = lib.mjcffi_step
 
 _M, _D = "mujoco._structs.MjModel", "mujoco._structs.MjData"
 _VFS, _SPEC = "mujoco._structs.MjVFS", "mujoco._structs.MjSpec"
+_SCN = "mujoco._structs.MjvScene"
 
 # The first line of each docstring, in the official bindings' shape (the
 # signature); mjcffi/functions.py puts the header's doc comment after it.
@@ -51,6 +54,15 @@ SIGNATURES = {
                     "list[mujoco._structs.MjrRect]) -> int",
     "mju_getXMLDependencies": "mju_getXMLDependencies(filename: str) -> list[str]",
     "mju_getLogConfig": "mju_getLogConfig() -> mujoco._structs.MjLogConfig",
+    "mjv_makeScene": f"mjv_makeScene(m: {_M}, scn: {_SCN}, maxgeom: int) -> None",
+    "mjv_freeScene": f"mjv_freeScene(scn: {_SCN}) -> None",
+    "mjv_defaultScene": f"mjv_defaultScene(scn: {_SCN}) -> None",
+    "mj_mountVFS": f"mj_mountVFS(vfs: {_VFS}, filepath: str, provider: "
+                   "mujoco._structs.MjpResourceProvider) -> int",
+    "mj_unmountVFS": f"mj_unmountVFS(vfs: {_VFS}, filename: str) -> int",
+    "mj_deleteFileVFS": f"mj_deleteFileVFS(vfs: {_VFS}, filename: str) -> int",
+    "mju_malloc": "mju_malloc(size: int) -> Any",
+    "mju_free": "mju_free(ptr: Any) -> None",
 }
 
 
@@ -150,9 +162,21 @@ def mj_loadModelBuffer(buffer):
 
 
 def mj_compile(s, vfs=None):
-    """Python: returns an MjModel; on failure, mjs_getError's message becomes ValueError."""
+    """Python: returns an MjModel; on failure, mjs_getError's message becomes ValueError.
+
+    With s.compiler.fusestatic or s.compiler.discardvisual set, MuJoCo deletes
+    the fused bodies or the visual assets from the spec while it compiles, and
+    every wrapper and view of them would point at freed memory: mjcffi then
+    compiles a copy of s (mj_copySpec), which gives the same model and leaves s
+    as it was, elements and all, and not compiled."""
     c_s = _m.struct(s, "mjSpec", "s")
     c_vfs = _m.opt_struct(vfs, "mjVFS", "vfs")
+    if c_s.compiler.fusestatic or c_s.compiler.discardvisual:
+        copy = lib.mjcffi_guard_mj_copySpec(c_s)
+        _m.check_error()
+        if copy == _m.NULL:
+            raise ValueError("mj_compile: MuJoCo could not copy the spec")
+        c_s = ffi.gc(copy, lib.mj_deleteSpec)
     ret = lib.mjcffi_guard_mj_compile(c_s, c_vfs)
     _m.check_error()
     if ret == _m.NULL:
@@ -194,13 +218,16 @@ def mj_makeData(m):
 
 
 # ----------------------------------------------------------------- VFS
+#
+# An mjVFS keeps a pointer to each resource provider mounted in it and reads it
+# until the provider is unmounted or the VFS deleted: mjcffi/vfs.py keeps the
+# providers alive that long.
 
 def mj_defaultVFS(vfs):
     """Python: an MjVFS is initialized when made and freed when collected; this
-    empties it (what it held is freed), and it stays usable."""
-    c_vfs = _m.struct(vfs, "mjVFS", "vfs")
-    _m.check(lib.mjcffi_guard_mj_deleteVFS(c_vfs))    # deleted, then made anew:
-    _m.check(lib.mjcffi_guard_mj_defaultVFS(c_vfs))   # empty and usable
+    empties it (what it held is freed, providers are unmounted), and it stays usable."""
+    from . import vfs as _vfs
+    _vfs.reset(vfs)
 
 
 def mj_deleteVFS(vfs):
@@ -208,6 +235,122 @@ def mj_deleteVFS(vfs):
     deleted VFS that MuJoCo reads again would crash, and the MjVFS frees its
     memory when collected."""
     mj_defaultVFS(vfs)
+
+
+def mj_mountVFS(vfs, filepath, provider):
+    """Python: vfs is an MjVfs or MjVFS, which keeps `provider` (an
+    MjpResourceProvider) alive while it is mounted: MuJoCo reads it until then."""
+    from . import vfs as _vfs
+    return _vfs.mount(vfs, filepath, provider)
+
+
+def mj_unmountVFS(vfs, filename):
+    """Python: the VFS lets go of the provider it kept alive."""
+    from . import vfs as _vfs
+    return _vfs.unmount(vfs, filename)
+
+
+def mj_deleteFileVFS(vfs, filename):
+    """Python: a provider mounted at `filename` is unmounted too, as in MuJoCo,
+    and the VFS lets go of it."""
+    from . import vfs as _vfs
+    return _vfs.delete_file(vfs, filename)
+
+
+# -------------------------------------------------------------- scenes
+#
+# mjv_makeScene and mjv_freeScene free the scene's buffers (geoms, flex and
+# skin data), which wrappers and views taken from it (scn.geoms[0],
+# scn.flexvert, ...) point into.  So these functions never free a scene in
+# place: they give the MjvScene a new mjvScene in new memory, and the old one
+# is freed with its root, i.e. when the last wrapper or view into it goes.
+
+def _scene(scn):
+    """The MjvScene wrapper `scn`, which must own its mjvScene."""
+    _m.struct(scn, "mjvScene", "scn")             # TypeError for anything else
+    state = getattr(scn, "__dict__", {})
+    if "_root" not in state or state["_root"] is not state.get("_ptr"):
+        raise TypeError("scn must be an MjvScene, not a raw mjvScene pointer: the scene's "
+                        "buffers are freed by this call, and only the MjvScene can keep "
+                        "them alive for the wrappers and views that point into them")
+    return scn
+
+
+def _renew(scn, make=None):
+    """Give the MjvScene `scn` a new mjvScene, zeroed (mjv_defaultScene) and then
+    filled by make(pointer); if that raises, scn keeps its scene."""
+    root = ffi.gc(ffi.new("mjvScene *"), lib.mjv_freeScene)
+    if make is not None:
+        make(root)
+    from ._views import _Cached
+    cls = type(scn)
+    scn._adopt(root, root, {})
+    stale = [name for name in scn.__dict__ if isinstance(getattr(cls, name, None), _Cached)]
+    for name in stale:                  # views cached from the old scene (scn.translate, ...)
+        scn.__dict__.pop(name, None)
+
+
+def mjv_makeScene(m, scn, maxgeom):
+    """Python: scn gets a new mjvScene, so that wrappers and views taken from its old
+    one (scn.geoms[0], ...) keep that one alive and valid; it is freed when the last
+    of them goes.  If MuJoCo fails, scn keeps its old scene."""
+    c_m = _m.struct(m, "mjModel", "m")
+    _scene(scn)
+
+    def make(pointer):
+        try:
+            status = lib.mjcffi_guard_mjv_makeScene(c_m, pointer, maxgeom)
+        except (TypeError, OverflowError) as exc:
+            raise _m.scalar_error(exc, "mjv_makeScene", {"maxgeom": ("int", maxgeom)}) from None
+        _m.check(status)
+    _renew(scn, make)
+
+
+def mjv_freeScene(scn):
+    """Python: scn gets a new, empty mjvScene (as mjv_freeScene leaves it); its old
+    one is freed when the last wrapper or view taken from it (scn.geoms[0], ...)
+    goes, so these stay valid.  An MjvScene is also freed when collected."""
+    _renew(_scene(scn))
+
+
+def mjv_defaultScene(scn):
+    """Python: as mjv_freeScene: scn gets a new, zeroed mjvScene, and its old one is
+    freed when the last wrapper or view taken from it goes (MuJoCo's mjv_defaultScene
+    would zero it in place and lose its buffers)."""
+    _renew(_scene(scn))
+
+
+# ------------------------------------------------------------------ memory
+
+_ALLOCATED: set = set()      # addresses that mju_malloc returned and mju_free has not freed
+
+
+def mju_malloc(size):
+    """Python: returns a raw cffi `void *` (None if MuJoCo returns NULL), which only
+    mju_free frees."""
+    try:
+        ret = lib.mjcffi_guard_mju_malloc(size)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mju_malloc", {"size": ("size_t", size)}) from None
+    _m.check_error()
+    if ret == _m.NULL:
+        return None
+    _ALLOCATED.add(int(ffi.cast("uintptr_t", ret)))
+    return ret
+
+
+def mju_free(ptr):
+    """Python: ptr must be a pointer that mju_malloc returned and that was not freed
+    yet (ValueError otherwise): any other pointer is memory that MuJoCo or Python
+    owns and frees itself, such as a spec element's or a struct field's."""
+    c_ptr = _m.opaque(ptr, "ptr", False)
+    address = int(ffi.cast("uintptr_t", c_ptr))
+    try:
+        _ALLOCATED.remove(address)
+    except KeyError:
+        raise ValueError(f"mju_free: ptr ({hex(address)}) was not returned by mju_malloc, or "
+                         f"was freed already") from None
+    _m.check(lib.mjcffi_guard_mju_free(c_ptr))
 
 
 # ----------------------------------------------------------- other shapes

@@ -1,8 +1,9 @@
 """The function layer against the official bindings, argument by argument.
 
-Every MuJoCo function that takes numeric arrays gets a valid call, built from
-codegen's tables (SHAPES gives each array's extents) with small sizes that
-differ per size argument, so that a transposed matrix is a wrong shape.  Each
+Every MuJoCo function that takes numeric arrays gets a valid call
+(tests/_calls.py), built from codegen's tables (SHAPES gives each array's
+extents) with small sizes that differ per size argument, so that a transposed
+matrix is a wrong shape.  Each
 variation then changes one array argument: one element more or fewer, a flat,
 (k, 1), (1, k) or 3-D layout, a transposed matrix, a wrong dtype, a read-only
 or strided output, a list for an input, None, a scalar.
@@ -27,156 +28,9 @@ from mjcffi import _marshal
 from mjcffi import functions as F
 from mjcffi._funcinfo import FUNCTIONS
 
-XML = """
-<mujoco>
-  <worldbody>
-    <geom name="floor" type="plane" size="1 1 .1"/>
-    <body name="base" pos="0 0 1">
-      <freejoint/>
-      <geom name="ball" size=".1" pos="0 0 -.92"/>
-      <body name="arm" pos="0 0 .3">
-        <joint name="hinge" type="hinge"/>
-        <geom name="rod" type="capsule" size=".05" fromto="0 0 0 0 0 .3"/>
-        <site name="tip" pos="0 0 .3"/>
-      </body>
-    </body>
-  </worldbody>
-  <actuator>
-    <position name="delayed" joint="hinge" delay="0.01" nsample="4"/>
-    <pid name="pid" joint="hinge" kp="10" kv="2" input="pos vel ff" delay="0.01" nsample="3"/>
-  </actuator>
-  <sensor>
-    <accelerometer name="accel" site="tip" delay="0.01" nsample="3"/>
-    <jointpos joint="hinge"/>
-  </sensor>
-</mujoco>
-"""
+from ._calls import XML, array_args, model_env, valid_call
 
-# Size arguments: distinct small values, so that swapped extents do not match.
-SIZES = {"n": 3, "nr": 2, "nc": 4, "r1": 2, "c1": 3, "c2": 4, "r2": 5, "nvec": 2,
-         "ntotal": 4, "nband": 2, "ndense": 1, "dim": 2, "nray": 2, "nface": 1, "nvert": 3,
-         "nnz": 8}
-
-# Scalar arguments by name; others get 0 (int) or 0.5 (float).
-SCALARS = {"body": 1, "objtype": 1, "objid": 1, "bodyexclude": -1, "cutoff": 10.0,
-           "time": 0.02, "phase": 0.0, "sig": 4356, "srcsig": 4356, "dstsig": 4356,
-           "eps": 1e-6, "scl": 1.0, "mindiag": 1e-9, "flg_static": 1, "diagadd": 0.0,
-           "diagmul": 0.0, "base": 2, "index": 1, "flg_centered": 0, "nstep": 1}
-
-# Functions left out, and why.
-SKIP = {
-    "mj_addBufferVFS": "a byte buffer, not an array",
-    "mj_saveModel": "a byte buffer, not an array",
-    "mju_strncpy": "a byte buffer, not an array",
-    "mju_writeResource": "needs a resource handle",
-    "mju_printMat": "prints",
-    "mju_printMatSparse": "prints",
-    "mju_sparse2dense": "needs a consistent sparse structure",
-    "mju_sym2dense": "needs a consistent sparse structure",
-    "mj_addM": "only the dense form, with None for the structure",
-    "mju_boxQP": "needs a consistent problem; covered by its own tests",
-    "mjp_getPlugin": "needs a plugin",
-    "mj_rayHfield": "needs a height field",
-    "mj_rayMesh": "needs a mesh",
-    "mju_threadpool": "makes threads",
-    "mju_standardNormal": "the official bindings take num2 as a float, not an output array",
-}
-
-
-def _model_env(module):
-    m = module.MjModel.from_xml_string(XML)
-    d = module.MjData(m)
-    module.mj_forward(m, d)
-    return {"m": m, "d": d, "module": module}
-
-
-class _Flat:
-    """A model or data whose array attributes read flat, as the C layout (SHAPES) sees them."""
-
-    def __init__(self, obj):
-        self._obj = obj
-
-    def __getattr__(self, name):
-        value = getattr(self._obj, name)
-        return np.ravel(value) if isinstance(value, np.ndarray) else value
-
-
-def _extents(func, arg, env):
-    """The extents of one array argument in a valid call, or None (not an array)."""
-    spec = table.SHAPES.get(func, {}).get(arg.name)
-    if spec is None:
-        return tuple(arg.extents) if arg.extents else None
-    if spec == "*":
-        return None
-    if arg.name in table.SIZED.get(func, ()):           # flat, as the official bindings take
-        spec = " * ".join(f"({d})" for d in table._split_dims(spec))
-    names = dict(SCALARS, **SIZES, m=_Flat(env["m"]), d=_Flat(env["d"]), mjNREF=2, mjNIMP=5, mjNGROUP=6,
-                 state_size=lambda m, sig, name=None: env["module"].mj_stateSize(m, sig),
-                 band_size=lambda t, b, d: (t - d) * b + d * t, id=0)
-    return tuple(int(eval(dim, {}, names)) for dim in table._split_dims(spec))
-
-
-_DTYPES = {"mjtNum": np.float64, "double": np.float64, "float": np.float32, "int": np.int32,
-           "mjtByte": np.uint8, "unsigned char": np.uint8, "mjtSize": np.int64,
-           "mjtBool": np.bool_}
-
-
-def _array(name, extents, elem):
-    """A valid, well-conditioned array: increasing times, an identity-like matrix, or ones."""
-    if name == "times":
-        return np.arange(extents[0]) * 0.01
-    out = np.ones(extents, _DTYPES[elem])
-    if len(extents) == 2 and extents[0] == extents[1] and elem in ("mjtNum", "double"):
-        out[:] = np.eye(extents[0]) * 2.0
-    return out
-
-
-def valid_call(func, env):
-    """{python name: value} for a call that both bindings accept, or None."""
-    if func in SKIP or func in table.UNSUPPORTED or func in table.OVERRIDES \
-            or not array_args(func):
-        return None
-    info = FUNCTIONS[func]
-    by_name = {a.name: a for a in info.args}
-    kwargs = {}
-    for py in inspect.signature(_ours(func)).parameters:
-        arg = by_name.get(py) or by_name.get(py.rstrip("_"))
-        if arg is None:
-            return None
-        if arg.elem == "mjModel":
-            kwargs[py] = env["m"]
-        elif arg.elem == "mjData":
-            kwargs[py] = env["d"]
-        elif arg.pointer == 0 and not arg.extents:
-            if arg.name in SIZES:
-                kwargs[py] = SIZES[arg.name]
-            elif arg.name in SCALARS:
-                kwargs[py] = SCALARS[arg.name]
-            elif arg.elem in ("mjtNum", "double", "float"):
-                kwargs[py] = 0.5
-            else:
-                kwargs[py] = 0
-        else:
-            extents = _extents(func, arg, env)
-            if extents is None or arg.elem not in _DTYPES:
-                return None
-            kwargs[py] = _array(arg.name, extents, arg.elem)
-    return kwargs
-
-
-def _ours(func):
-    from mjcffi import functions
-    return getattr(functions, func)
-
-
-def array_args(func):
-    """(python name, Arg) of each numeric array argument of `func`."""
-    info = FUNCTIONS[func]
-    out = []
-    for a in info.args:
-        if (a.pointer or a.extents) and a.elem in _DTYPES:
-            out.append((a.name, a))
-    return out
+_model_env = model_env
 
 
 def variations(value, arg):
@@ -233,7 +87,11 @@ LENIENT = {
     **{(func, arg, "None"): _NULLABLE for func, arg in (
         ("mju_transformSpatial", "rotnew2old"), ("mjd_quatIntegrate", "Dquat"),
         ("mjd_quatIntegrate", "Dvel"), ("mjd_quatIntegrate", "Dscale"),
-        ("mj_multiRay", "geomid"))},
+        ("mj_multiRay", "geomid"), ("mjv_cameraFrame", "headpos"), ("mjv_cameraFrame", "up"),
+        ("mjv_cameraFrame", "right"), ("mjv_cameraFrustum", "zver"),
+        ("mjv_cameraFrustum", "zhor"), ("mjv_cameraFrustum", "zclip"),
+        ("mjv_initGeom", "size"), ("mjv_initGeom", "pos"), ("mjv_initGeom", "mat"),
+        ("mjv_initGeom", "rgba"))},
     **{("mj_multiRay", arg, "(1, k)"): "mjcffi takes the rays as (nray, 3), as its docs say, "
        "and so any layout of 3*nray elements" for arg in ("vec", "normal")},
     **{(func, arg, variation): _INPUT
