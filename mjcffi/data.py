@@ -6,15 +6,19 @@ adds construction from a model, copying and pickling.
 
 import copy
 
+from ._errors import FatalError, with_note
 from ._library import ffi, lib
 from ._views import guarded_result, struct_pointer
-from .callbacks import _track
+from .callbacks import _register_class, _track
 from .named import MjDataNames, NamedAccess
 from .structs import mjdata
 
-_SIZE = ffi.sizeof("mjData")
+_HEADER_SIZE = lib.mjcffi_data_header_size()
+_LAYOUT_SIZE = lib.mjcffi_data_layout_size()
+_new_unzeroed = ffi.new_allocator(should_clear_after_alloc=False)
 
 
+@_register_class        # callbacks wrap foreign pointers with it
 class MjData(NamedAccess, MjDataNames, mjdata.MjData):
     """The simulation state of a model (mjData): `MjData(model)`.
 
@@ -58,27 +62,45 @@ class MjData(NamedAccess, MjDataNames, mjdata.MjData):
         return self._adopt_copy(copy.deepcopy(self._model, memo))
 
     def __reduce__(self):
+        # (model, header, buffer, used arena, layout): no address anywhere (see _helper.h)
         p = self._ptr
-        header = ffi.buffer(p, _SIZE)[:]
-        buffer = ffi.buffer(p.buffer, p.nbuffer)[:]
-        arena = ffi.buffer(p.arena, p.parena)[:]      # the stack above is scratch
-        return (_unpickle, (self._model, header, buffer, arena))
+        header = ffi.buffer(p, _HEADER_SIZE)[:]
+        layout = _new_unzeroed("char[]", _LAYOUT_SIZE)
+        if lib.mjcffi_save_layout(p, layout):     # a thread pool, or a stack in use: not ours
+            header = bytearray(header)
+            lib.mjcffi_clear_local(ffi.from_buffer(header))
+            header = bytes(header)
+        return (_unpickle, (self._model, header, ffi.buffer(p.buffer, p.nbuffer)[:],
+                            ffi.buffer(p.arena, p.parena)[:], ffi.buffer(layout)[:]))
 
 
-def _unpickle(model, header, buffer, arena):
-    """Rebuild an MjData from its pickled bytes (mjcffi_restore_data moves its
-    pointers onto the new data's own memory)."""
-    data = MjData(model)
-    p = data._ptr
-    if len(header) != _SIZE or len(buffer) != p.nbuffer:
-        raise ValueError("pickled MjData does not fit its model (struct or buffer sizes differ)")
-    # The plugin instances that mj_makeData just made stay this data's own: the
-    # pickled addresses belong to the original data (or to another process), and
-    # two datas holding one instance would both free it.  Plugin state proper
-    # (plugin_state) is in the buffer and is restored.
-    instances = [p.plugin_data[i] for i in range(p.nplugin)]
-    if lib.mjcffi_restore_data(p, header, buffer, arena, len(arena)):
-        raise ValueError("pickled MjData does not fit its model (buffer or arena sizes differ)")
-    for i, address in enumerate(instances):
-        p.plugin_data[i] = address
+def _invalid(detail):
+    return with_note(ValueError("Invalid serialized mjData"), detail)
+
+
+def _unpickle(model, header, buffer, arena, layout=None):
+    """Rebuild an MjData from its pickled parts, trusting none of them.
+
+    A fresh MjData of `model` supplies every buffer pointer and its own plugin
+    instances; mjcffi_restore_data checks every count against the model and the
+    arena, and every arena offset against the arena bytes, before it copies.
+    """
+    if getattr(model, "_cname", None) != "mjModel":
+        raise _invalid(f"the model is a {type(model).__name__}, not an MjModel")
+    if layout is None:
+        raise _invalid("no layout: pickled by an mjcffi older than this one")
+    parts = (("header", header), ("buffer", buffer), ("arena", arena), ("layout", layout))
+    for name, part in parts:
+        if type(part) is not bytes:
+            raise _invalid(f"the {name} is a {type(part).__name__}, not bytes")
+    try:
+        data = MjData(model)
+    except (MemoryError, FatalError) as error:   # the model's sizes come from the pickle too
+        raise _invalid(f"its model's MjData cannot be made: {error}") from None
+    args = (model._ptr, data._ptr, header, len(header), buffer, len(buffer), arena, len(arena),
+            layout, len(layout))
+    if lib.mjcffi_restore_data(*args, ffi.NULL, 0):
+        why = ffi.new("char[]", 256)          # refused, data untouched: ask again for why
+        lib.mjcffi_restore_data(*args, why, len(why))
+        raise _invalid(ffi.string(why).decode("utf-8", "replace"))
     return data

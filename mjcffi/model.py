@@ -7,13 +7,17 @@ pickled.
 
 from . import _loading, plugins
 from . import vfs as _vfs
+from ._errors import with_note
 from ._library import ffi, lib
 from ._views import guarded_result
-from .callbacks import _track
+from .callbacks import _register_class, _track
 from .named import MjModelNames, NamedAccess
 from .structs import mjmodel
 
+_NOT_MJB = "MuJoCo could not load these bytes as an MJB model of MuJoCo 4.0"
 
+
+@_register_class        # callbacks wrap foreign pointers with it
 class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
     """A compiled model (mjModel).
 
@@ -71,9 +75,14 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
         if not isinstance(mjb, (bytes, bytearray, memoryview)):
             raise TypeError(f"mjb must be bytes, not {type(mjb).__name__}")
         plugins.load_bundled()          # a pickled model may use them
-        root = guarded_result(lib.mjcffi_guard_mj_loadModelBuffer, bytes(mjb), len(mjb))
+        mjb = bytes(mjb)
+        if lib.mjcffi_check_mjb(mjb, len(mjb), ffi.NULL, 0):    # before MuJoCo allocates
+            why = ffi.new("char[]", 160)
+            lib.mjcffi_check_mjb(mjb, len(mjb), why, len(why))
+            raise with_note(ValueError(_NOT_MJB), ffi.string(why).decode("utf-8", "replace"))
+        root = guarded_result(lib.mjcffi_guard_mj_loadModelBuffer, mjb, len(mjb))
         if root == ffi.NULL:
-            raise ValueError("MuJoCo could not load these bytes as an MJB model of MuJoCo 4.0")
+            raise ValueError(_NOT_MJB)
         return cls._from_root(ffi.gc(root, lib.mj_deleteModel))
 
     @property
