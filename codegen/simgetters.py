@@ -100,7 +100,8 @@ def _data_methods(data_fields):
                 lines += _method(f"get_{obj}_{quantity}", "self, name",
                                  f"The world-frame {what} velocity of {obj} `name`'s frame "
                                  f"(mj_objectVelocity, {objtype}).",
-                                 [f"return _velocity(self, _OBJ[{objtype!r}], {find})[{index}]"])
+                                 [f"return _velocity(self, mj_objectVelocity, _OBJ[{objtype!r}], "
+                                  f"{find})[{index}]"])
         if jac:
             for quantity, which, what in (("jacp", "p", "translational"),
                                           ("jacr", "r", "rotational")):
@@ -156,7 +157,7 @@ def generate(described, decls):
              "world-frame, of the object's frame (a body's at d.xpos, as mj_jacBody).",
              '"""',
              "",
-             "from ._functions import mj_jacBody, mj_jacGeom, mj_jacSite",
+             "from ._functions import mj_jacBody, mj_jacGeom, mj_jacSite, mj_objectVelocity",
              "from ._simsupport import (  # noqa: F401  (UnknownNameError: for users)",
              *textwrap.wrap(", ".join(_SUPPORT) + ")", 90, initial_indent="    ",
                             subsequent_indent="    "),

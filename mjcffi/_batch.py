@@ -16,14 +16,16 @@ which and why.
 """
 
 import operator
+import re
 
 import numpy as np
 
 from . import callbacks as _callbacks
 from ._constants import mjNGROUP
-from ._enums import mjtState, mjtWarning
+from ._enums import mjtEq, mjtState, mjtWarning
 from ._errors import FatalError, check, raise_pending, with_note
 from ._library import ffi, lib
+from ._structinfo import STRUCTS
 from ._views import DTYPES, view
 from .data import MjData
 from .model import MjModel
@@ -84,6 +86,7 @@ class Batch:
         self.persistent = bool(lib.mjb_persistent(self._ptr))
         self._template = None       # an MjData of the model: the shapes of its fields
         self._models = None         # set_models: the caller models and their pointers
+        self._checked = {}          # expanded CHECKED_FIELDS: name -> their (nsim, n) rows
 
     def __repr__(self):
         return f"<mjcffi._batch.Batch nsim={self.nsim} nthread={self.nthread}>"
@@ -124,8 +127,17 @@ class Batch:
         return self._storage(lib.mjcffi_guard_mjb_output, name)
 
     def expand(self, name):
-        """Give MjModel field `name` per-simulation storage; its (nsim, nbytes) bytes, or None."""
-        return self._storage(lib.mjcffi_guard_mjb_expand, name)
+        """Give MjModel field `name` per-simulation storage; its (nsim, nbytes) bytes, or None.
+
+        Fields in INDEX_FIELDS are refused (ValueError): their values index
+        other arrays.  Those in CHECKED_FIELDS are checked before every call.
+        """
+        if name in INDEX_FIELDS:
+            raise index_field_error(name)
+        raw = self._storage(lib.mjcffi_guard_mjb_expand, name)
+        if raw is not None and name in CHECKED_FIELDS:
+            self._checked[name] = raw.view(_INT)
+        return raw
 
     def expanded(self, name):
         """The (nsim, nbytes) bytes of an expanded MjModel field; None if not expanded."""
@@ -162,10 +174,20 @@ class Batch:
         if not (_S0.fn is None and _S1.fn is None and _S2.fn is None and _S3.fn is None
                 and _S4.fn is None and _S5.fn is None and _S6.fn is None and _S7.fn is None):
             check_callbacks()
-        failed = _guard_step(self._ptr, pointer, count, nstep, stage)
+        if self._checked:
+            self.check_expanded()
+        try:
+            if _callbacks._python:
+                failed = _call(_guard_step, self._ptr, pointer, count, nstep, stage)
+            else:
+                failed = _guard_step(self._ptr, pointer, count, nstep, stage)
+        except (TypeError, OverflowError):
+            raise _int_error(("nstep", nstep), ("stage", stage)) from None
         message = _take_error()          # raise_pending(), inlined: the hot path
         if message != _NULL:
             raise FatalError(ffi.string(message).decode("utf-8", "replace"))
+        if _callbacks._pending:          # a Python mju_user_warning, on the batch's threads
+            _callbacks._raise_stashed()
         return failed
 
     def forward(self, ids=None, stage=3):
@@ -173,8 +195,10 @@ class Batch:
         pointer, count = self._selection(ids)
         if count < 0:
             return 0
+        stage = c_int(stage, "stage")
         check_callbacks()
-        return _finish(lib.mjcffi_guard_mjb_forward(self._ptr, pointer, count, stage))
+        self.check_expanded()
+        return _finish(_call(lib.mjcffi_guard_mjb_forward, self._ptr, pointer, count, stage))
 
     def reset(self, ids=None, keyframe=None, stage=3):
         """mjb_reset to the defaults, or to `keyframe` ((n,) int32, -1: defaults)."""
@@ -185,8 +209,10 @@ class Batch:
         if keyframe is not None:
             _shape(_typed(keyframe, _INT, "keyframe"), (self._count(ids),), "keyframe")
             key = ffi.from_buffer("int[]", keyframe)
+        stage = c_int(stage, "stage")
         check_callbacks()
-        return _finish(lib.mjcffi_guard_mjb_reset(self._ptr, pointer, count, key, stage))
+        self.check_expanded()
+        return _finish(_call(lib.mjcffi_guard_mjb_reset, self._ptr, pointer, count, key, stage))
 
     def set_const(self, ids=None):
         """mjb_setConst: mj_setConst on each selected simulation's model."""
@@ -194,7 +220,8 @@ class Batch:
         if count < 0:
             return 0
         check_callbacks()
-        return _finish(lib.mjcffi_guard_mjb_setConst(self._ptr, pointer, count))
+        self.check_expanded()
+        return _finish(_call(lib.mjcffi_guard_mjb_setConst, self._ptr, pointer, count))
 
     def rollout(self, ids, nstep, control, control_spec, records):
         """mjb_rollout: `nstep` substeps, each record's buffer filled after each.
@@ -227,9 +254,9 @@ class Batch:
         if count < 0:
             return 0
         check_callbacks()
-        return _finish(lib.mjcffi_guard_mjb_rollout(
-            self._ptr, pointer, count, nstep, control_pointer, control_spec, array,
-            len(records)))
+        self.check_expanded()
+        return _finish(_call(lib.mjcffi_guard_mjb_rollout, self._ptr, pointer, count, nstep,
+                             control_pointer, control_spec, array, len(records)))
 
     def _record(self, entry, record, n, nstep):
         """Fill the mjBatchRecord `entry` from a checked record; return what it points to."""
@@ -339,7 +366,8 @@ class Batch:
     def _apply(self, pointer, count, func, arg):
         """mjb_apply of the C task `func`: on the batch's threads, without the GIL."""
         check_callbacks()
-        return _finish(lib.mjcffi_guard_mjb_apply(self._ptr, pointer, count, func, arg, 0))
+        self.check_expanded()
+        return _finish(_call(lib.mjcffi_guard_mjb_apply, self._ptr, pointer, count, func, arg, 0))
 
     # ------------------------------------------------- models and whole data
 
@@ -348,6 +376,7 @@ class Batch:
         sim = self._sim(sim)
         if not isinstance(model, MjModel):
             raise TypeError(f"model must be an MjModel, not {type(model).__name__}")
+        self.check_expanded()
         check(lib.mjcffi_guard_mjb_getModel(self._ptr, sim, model._ptr))
 
     def get_data(self, sim, data):
@@ -378,6 +407,11 @@ class Batch:
         check(lib.mjcffi_guard_mjb_setModels(self._ptr, array))
         # only once MuJoCo holds the new pointers may the old ones go
         self._models = None if models is None else (models, array)
+
+    def check_expanded(self):
+        """ValueError if an expanded CHECKED_FIELDS value would let MuJoCo index out of range."""
+        for name, rows in self._checked.items():
+            CHECKED_FIELDS[name](self.model, name, rows)
 
     # ------------------------------------------------------------ arguments
 
@@ -460,10 +494,42 @@ def _make(model_ptr, nsim, nthread, persistent):
     return ffi.gc(pointer, lib.mjb_deleteBatch)
 
 
+def _call(guard, *args):
+    """A guarded mjb_* call that may run callbacks on the batch's threads: while it
+    runs, their exceptions are this thread's (see mjcffi/callbacks.py)."""
+    if not _callbacks._python:
+        return guard(*args)
+    claim = _callbacks._scope()
+    try:
+        return guard(*args)
+    finally:
+        _callbacks._unscope(claim)
+
+
 def _finish(failed):
-    """A call's count of failed simulations, or FatalError for arguments MuJoCo rejected."""
-    raise_pending()
+    """A call's count of failed simulations, or FatalError for arguments MuJoCo
+    rejected, or the exception of a Python callback (mju_user_warning) it ran."""
+    try:
+        raise_pending()
+    finally:
+        if _callbacks._pending:
+            _callbacks._raise_stashed()
     return failed
+
+
+def c_int(value, name):
+    """`value` as an int that fits a C int, or TypeError / ValueError naming it."""
+    value = integer(value, name)
+    if not -_INT_MAX - 1 <= value <= _INT_MAX:
+        raise ValueError(f"{name} must fit a C int, got {value}")
+    return value
+
+
+def _int_error(*named):
+    """The error for (name, value) arguments that cffi refused as C ints."""
+    for name, value in named:
+        c_int(value, name)
+    return TypeError(f"{', '.join(name for name, _ in named)}: a C int is needed")
 
 
 def integer(value, name):
@@ -558,6 +624,89 @@ def _field_tables():
     return frozenset(data_fields), frozenset(record_fields), frozenset(model_fields)
 
 
+# ------------------------------------------------------------ index fields
+#
+# An mjModel field whose values MuJoCo uses as ids, addresses, counts or types
+# of other arrays cannot differ between simulations: one simulation's value
+# would make MuJoCo index out of range of arrays that all share one layout
+# (a body_parentid past nbody, a jnt_type that makes a hinge's one qpos a free
+# joint's seven).  mjb_expand accepts them; expand() refuses them.  They are
+# found from the headers' metadata: integer fields named or described as ids,
+# addresses, counts, sizes, sparse structure, maps or types (mjt* enums),
+# and the few structural flags below that their comments do not mark.
+
+_INDEX_SUFFIXES = ("id", "ids", "adr", "num", "nnz", "colind", "diag", "signature", "perm",
+                   "type", "_size", "_dim", "_history")
+_INDEX_WORDS = re.compile(r"\bids?\b|address|\baddr\b|number of|\bindex|indices|pointers|"
+                          r"\(mjt\w+|\btype\b|resolution|parameters|signature|history|"
+                          r"interpolation|bits")
+_STRUCTURAL = {"body_simple", "flex_dim", "flex_edgeequality", "flex_elemlayer", "flex_elem",
+               "flex_edge", "flex_shell", "flex_edgeflap", "flex_elemedge", "flex_elemtexcoord",
+               "flex_rigid", "flexedge_rigid", "plugin", "plugin_attr", "names_map"}
+
+
+def _index_fields(names, model):
+    """The integer mjModel fields among `names` that index other arrays (see above)."""
+    docs = {field.name: field.doc for field in STRUCTS["mjModel"]}
+    found = set()
+    for name in names:
+        if name.startswith("opt.") or name in CHECKED_FIELDS:
+            continue                   # MjOption's ints are counts of iterations and modes
+        value = getattr(model, name, None)
+        if not isinstance(value, np.ndarray) or value.dtype.kind not in "iub":
+            continue
+        if name.endswith("contype"):
+            continue                   # contact bitmasks, compared only
+        if (name in _STRUCTURAL or name.endswith(_INDEX_SUFFIXES) or name.startswith("name_")
+                or name.startswith("map") or _INDEX_WORDS.search(docs.get(name, ""))):
+            found.add(name)
+    return frozenset(found)
+
+
+def index_field_error(name):
+    return with_note(ValueError(f"{name} holds ids, addresses, counts or types of other "
+                                "arrays: it cannot differ between simulations"),
+                     "a per-simulation value would let MuJoCo index out of range of arrays "
+                     "every simulation shares; give the simulations models of their own "
+                     "(set_models) to change the structure")
+
+
+# Expandable fields whose values are checked before each call.
+
+_CONDIM = np.array([1, 3, 4, 6], np.int32)
+_BODY_BASED = np.array([mjtEq.mjEQ_CONNECT, mjtEq.mjEQ_WELD], np.int32)
+
+
+def _check_condim(model, name, rows):
+    bad = ~np.isin(rows, _CONDIM)
+    if bad.any():
+        sim, k = np.argwhere(bad)[0]
+        raise ValueError(f"{name}[{k}] of simulation {sim} is {rows[sim, k]}: a contact "
+                         "dimensionality is 1, 3, 4 or 6")
+
+
+def _check_eq_type(model, name, rows):
+    """A constraint keeps its objects' kind: its own type, connect <-> weld (bodies or
+    sites), or a type MuJoCo itself rejects (mj_step then fails that simulation)."""
+    own = np.asarray(model.eq_type)[None, :]
+    unknown = (rows < 0) | (rows > max(mjtEq))
+    body = np.isin(rows, _BODY_BASED) & np.isin(own, _BODY_BASED)
+    bad = ~((rows == own) | unknown | body)
+    if bad.any():
+        sim, k = np.argwhere(bad)[0]
+        raise with_note(ValueError(f"eq_type[{k}] of simulation {sim} is {rows[sim, k]}: "
+                                   f"equality {k} is of type {own[0, k]} in the model, and "
+                                   "its objects would be read as another kind's ids"),
+                        "a connect may become a weld and back; other types must stay the "
+                        "model's")
+
+
+CHECKED_FIELDS = {"geom_condim": _check_condim, "pair_dim": _check_condim,
+                  "flex_condim": _check_condim, "eq_type": _check_eq_type}
+
+
 # MjData fields bind() accepts, MjData fields rollout() records by name, and
-# MjModel fields expand() accepts
-DATA_FIELDS, RECORD_FIELDS, MODEL_FIELDS = _field_tables()
+# MjModel fields expand() accepts: those mjb_expand accepts, less INDEX_FIELDS
+DATA_FIELDS, RECORD_FIELDS, _EXPANDABLE = _field_tables()
+INDEX_FIELDS = _index_fields(_EXPANDABLE, MjModel.from_xml_string("<mujoco/>"))
+MODEL_FIELDS = _EXPANDABLE - INDEX_FIELDS

@@ -7,7 +7,7 @@ orientations are copies; xmat-like fields come as 3x3.  Velocities are
 world-frame, of the object's frame (a body's at d.xpos, as mj_jacBody).
 """
 
-from ._functions import mj_jacBody, mj_jacGeom, mj_jacSite
+from ._functions import mj_jacBody, mj_jacGeom, mj_jacSite, mj_objectVelocity
 from ._simsupport import (  # noqa: F401  (UnknownNameError: for users)
     UnknownNameError, _addr, _all_names, _get, _id, _jacobian, _mocap_id, _name, _set,
     _set_row, _span, _velocity)
@@ -351,11 +351,11 @@ class SimDataGetters:
 
     def get_body_xvelp(self, name):
         """The world-frame linear velocity of body `name`'s frame (mj_objectVelocity, mjOBJ_XBODY)."""
-        return _velocity(self, _OBJ['mjOBJ_XBODY'], _id(self.model, 'body', name))[0]
+        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_XBODY'], _id(self.model, 'body', name))[0]
 
     def get_body_xvelr(self, name):
         """The world-frame angular velocity of body `name`'s frame (mj_objectVelocity, mjOBJ_XBODY)."""
-        return _velocity(self, _OBJ['mjOBJ_XBODY'], _id(self.model, 'body', name))[1]
+        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_XBODY'], _id(self.model, 'body', name))[1]
 
     def get_body_jacp(self, name):
         """The translational Jacobian (3, nv) of body `name` (mj_jacBody)."""
@@ -375,11 +375,11 @@ class SimDataGetters:
 
     def get_geom_xvelp(self, name):
         """The world-frame linear velocity of geom `name`'s frame (mj_objectVelocity, mjOBJ_GEOM)."""
-        return _velocity(self, _OBJ['mjOBJ_GEOM'], _id(self.model, 'geom', name))[0]
+        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_GEOM'], _id(self.model, 'geom', name))[0]
 
     def get_geom_xvelr(self, name):
         """The world-frame angular velocity of geom `name`'s frame (mj_objectVelocity, mjOBJ_GEOM)."""
-        return _velocity(self, _OBJ['mjOBJ_GEOM'], _id(self.model, 'geom', name))[1]
+        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_GEOM'], _id(self.model, 'geom', name))[1]
 
     def get_geom_jacp(self, name):
         """The translational Jacobian (3, nv) of geom `name` (mj_jacGeom)."""
@@ -399,11 +399,11 @@ class SimDataGetters:
 
     def get_site_xvelp(self, name):
         """The world-frame linear velocity of site `name`'s frame (mj_objectVelocity, mjOBJ_SITE)."""
-        return _velocity(self, _OBJ['mjOBJ_SITE'], _id(self.model, 'site', name))[0]
+        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_SITE'], _id(self.model, 'site', name))[0]
 
     def get_site_xvelr(self, name):
         """The world-frame angular velocity of site `name`'s frame (mj_objectVelocity, mjOBJ_SITE)."""
-        return _velocity(self, _OBJ['mjOBJ_SITE'], _id(self.model, 'site', name))[1]
+        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_SITE'], _id(self.model, 'site', name))[1]
 
     def get_site_jacp(self, name):
         """The translational Jacobian (3, nv) of site `name` (mj_jacSite)."""
@@ -423,11 +423,11 @@ class SimDataGetters:
 
     def get_camera_xvelp(self, name):
         """The world-frame linear velocity of camera `name`'s frame (mj_objectVelocity, mjOBJ_CAMERA)."""
-        return _velocity(self, _OBJ['mjOBJ_CAMERA'], _id(self.model, 'cam', name))[0]
+        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_CAMERA'], _id(self.model, 'cam', name))[0]
 
     def get_camera_xvelr(self, name):
         """The world-frame angular velocity of camera `name`'s frame (mj_objectVelocity, mjOBJ_CAMERA)."""
-        return _velocity(self, _OBJ['mjOBJ_CAMERA'], _id(self.model, 'cam', name))[1]
+        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_CAMERA'], _id(self.model, 'cam', name))[1]
 
     def get_light_xpos(self, name):
         """d.light_xpos of light `name`, a copy."""

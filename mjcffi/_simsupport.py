@@ -1,12 +1,12 @@
 """What the generated mujoco-py getters (mjcffi/_simgetters.py) call.
 
 A support module: name and id lookups through named access's tables, joint
-spans, copies and checked writes, velocities and Jacobians.
+spans, copies and checked writes, velocities and Jacobians.  It imports no
+generated code: the getters hand it the MuJoCo functions it calls.
 """
 
 import numpy as np
 
-from ._functions import mj_objectVelocity
 from ._namedinfo import CATEGORIES
 from .named import _joint_span, _name_of, _names, _unknown_name
 
@@ -74,10 +74,11 @@ def _set(array, start, width, value, what):
         array[start:start + width] = value
 
 
-def _velocity(data, objtype, element_id):
-    """(linear, angular) world-frame velocity of an object's frame."""
+def _velocity(data, function, objtype, element_id):
+    """(linear, angular) world-frame velocity of an object's frame, by `function`
+    (mj_objectVelocity, which the generated getters hand down)."""
     res = np.empty(6)
-    mj_objectVelocity(data.model, data, objtype, element_id, res, 0)
+    function(data.model, data, objtype, element_id, res, 0)
     return res[3:].copy(), res[:3].copy()     # MuJoCo orders it (rot, lin)
 
 

@@ -22,7 +22,11 @@ one MjData per simulation, at any thread count.
   xpos, and `b.ctrl = u` writes every simulation's controls.
 - `expand(name)` gives an MjModel field (or 'opt.<name>' of MjOption) a value
   per simulation; `expanded(name)` reads one without expanding it;
-  `set_const()` reruns mj_setConst per simulation.
+  `set_const()` reruns mj_setConst per simulation.  Fields of ids, addresses,
+  counts and types (INDEX_FIELDS: body_parentid, jnt_qposadr, geom_type, ...)
+  cannot be expanded, since a per-simulation value would make MuJoCo index
+  out of range; contact dimensionalities and eq_type are checked before each
+  call (ValueError).
 - `joint(name)`, `body(name)`, `sensor(name)`, ... slice those arrays per
   object, with the attributes of MjData's and MjModel's named access:
   `b.joint('hinge').qpos` is (nsim, 1), `b.body('pole').mass = masses`
@@ -67,7 +71,7 @@ import numpy as np
 from numpy.lib.stride_tricks import as_strided
 
 from . import _batch
-from ._batch import DATA_FIELDS, MODEL_FIELDS, RECORD_FIELDS
+from ._batch import DATA_FIELDS, INDEX_FIELDS, MODEL_FIELDS, RECORD_FIELDS
 from ._batch import STATE_FIELDS as _STATE_FIELDS
 from ._batch import data_template as _template
 from ._batch import integer as _integer
@@ -301,7 +305,7 @@ class Batch:
         None while every simulation has the model's value; otherwise the
         values expand() or set_const() gave it, without expanding anything.
         """
-        if name not in MODEL_FIELDS:
+        if name not in MODEL_FIELDS and name not in INDEX_FIELDS:
             raise _not_expandable(self.model, name)
         raw = self._b.expanded(name)
         if raw is None:
@@ -382,6 +386,9 @@ class Batch:
             shape = (n, nstep, lib.mj_stateSize(m, control_spec))
             control = _broadcast(control, shape, _NUM, "control")
         given = {} if out is None else out
+        if not callable(getattr(given, "get", None)):
+            raise TypeError(f"out must be a dict from record items to arrays, not "
+                            f"{type(out).__name__}")
         result, records = {}, []
         for item in record:
             if isinstance(item, str):
@@ -450,7 +457,10 @@ class Batch:
         vec = _broadcast(vec, (n, nray, 3), _NUM, "vec")
         exclude = _int32(bodyexclude, (n, nray), -1, self.model.nbody, "bodyexclude")
         if geomgroup is not None:
-            geomgroup = np.ascontiguousarray(geomgroup, dtype=np.uint8)
+            flags = np.asarray(geomgroup)         # checked: a value past uint8 would wrap
+            if flags.dtype.kind == "b":
+                flags = flags.astype(np.uint8)
+            geomgroup = _int32(flags, flags.shape, 0, 256, "geomgroup").astype(np.uint8)
         # mj_ray writes every entry, -1 for a miss
         dist, geomid = np.zeros((n, nray), _NUM), np.zeros((n, nray), _INT)
         normals = np.zeros((n, nray, 3), _NUM) if normal else None
@@ -620,7 +630,7 @@ class Batch:
                 out = _cut(self.bind(name), getattr(self._data, name), part)
                 self._slices[cache_key] = out
                 return out
-            if name not in MODEL_FIELDS:
+            if name not in MODEL_FIELDS and name not in INDEX_FIELDS:
                 unheld = True
                 continue
             if self._models is not None:
@@ -806,8 +816,9 @@ def _cut(rows, full, part):
 
 def _structural(name, part):
     """Whether model field `name` holds addresses, counts, ids or types."""
-    return (part.dtype.kind in "iu" and name.endswith(("adr", "num", "id", "type"))
-            and not name.endswith("contype"))
+    return name in INDEX_FIELDS or (part.dtype.kind in "iu"
+                                    and name.endswith(("adr", "num", "id", "type"))
+                                    and not name.endswith("contype"))
 
 
 def _model_template(model, name):
@@ -880,6 +891,8 @@ def _not_expandable(model, name):
         return TypeError(f"a field name must be a str, not {type(name).__name__}")
     if name in DATA_FIELDS:
         return ValueError(f"{name} is an MjData field: use bind({name!r})")
+    if name in INDEX_FIELDS:
+        return _batch.index_field_error(name)
     if isinstance(getattr(model, name, None), np.ndarray):
         return ValueError(f"{name} is asset data, shared by all simulations, and cannot be "
                           "expanded")

@@ -7,7 +7,9 @@ For each global `mjcb_foo` there is `set_mjcb_foo(callback)` and
   (declared in _callbacks.h), which takes the GIL and calls it with the Python
   wrappers: `f(model, data, ...)`.  `model` and `data` are the very MjModel
   and MjData objects the program made, found by address in a registry of live
-  wrappers (which model.py and data.py fill through `_track`).  Memory that
+  wrappers (which model.py and data.py fill through `_track`; they also hand
+  their classes down through `_register_class`, so that this module imports
+  nothing from the layer above).  Memory that
   no live mjcffi wrapper owns (an mjData made by another binding, or by raw
   `lib` calls) arrives as a *borrowed* wrapper, made for this call only: it
   does not keep the memory alive, so do not keep it, or its arrays, after the
@@ -56,17 +58,31 @@ official text, such as "mjcb_time callback did not return a number"), MuJoCo
 receives a neutral value instead: nothing for the void callbacks, 0 ("keep this pair") for
 mjcb_contactfilter, 0.0 for mjcb_time and mjcb_act_*.  The MuJoCo call goes
 on to its end, calling the callback again as needed, and the *first* such
-exception is stashed for the thread that called MuJoCo; later ones are
-dropped.  mjcffi's functions re-raise it, with the callback's traceback, as
-soon as the call returns (`raise_pending_callback_error`).  After raw `lib`
-calls, call `raise_pending_callback_error()` yourself, or the exception comes
-out of the next mjcffi call that checks.  (The official bindings abort the
-MuJoCo call at the callback instead, leaving the mjData mid-step; here the
-call completes, with the neutral values, and the state stays consistent.)
-A callback that MuJoCo runs on one of its own pool threads (an mjThreadPool
-bound to the mjData) stashes its exception for whichever thread checks next.
+exception is stashed for the caller of that call; later ones are dropped.
+mjcffi's functions re-raise it, with the callback's traceback, as soon as the
+call returns (`raise_pending_callback_error`).  After raw `lib` calls, call
+`raise_pending_callback_error()` yourself, or the exception comes out of the
+next mjcffi call that checks.  (The official bindings abort the MuJoCo call at
+the callback instead, leaving the mjData mid-step; here the call completes,
+with the neutral values, and the state stays consistent.)
+
+The caller of a call is found whichever thread ran the callback:
+- on the calling thread itself: that thread;
+- on the threads of `mjcffi.rollout` or of a `mjcffi.batch.Batch` call: the
+  thread that made the call, which registers them for its duration (`_scope`);
+- on the threads of an mjThreadPool bound to an mjData (`mju_threadpool`): the
+  thread whose mjcffi call was on that mjData (the mjData the callback
+  received, or for mjcb_time the only live mjData with a pool bound).
+So each exception reaches exactly one caller, once, and never a later call.
+(With several such calls running at once, an exception that came with no
+mjData, from mjcb_time or mju_user_warning, goes to one of them; with several
+mjData holding a pool, to the next call on one of them.)
+A callback that re-enters MuJoCo (mj_step from mjcb_control on the same data)
+works until Python's recursion limit is near, then raises RecursionError, which
+reaches the outermost call like any other exception.
 """
 
+import itertools
 import operator
 import sys
 import threading
@@ -94,6 +110,15 @@ __all__ = [
 
 _MODELS: dict = {}
 _DATAS: dict = {}
+_CLASSES: dict = {}     # "mjModel" / "mjData" -> the wrapper class, for borrowed wrappers
+
+
+def _register_class(cls):
+    """The hook of mjcffi/model.py and mjcffi/data.py: `cls` wraps the pointers
+    of its `_cname` that no live wrapper owns.  (This support module does not
+    import the layer above: that layer hands its classes down.)"""
+    _CLASSES[cls._cname] = cls
+    return cls
 
 
 def _track(wrapper):
@@ -111,42 +136,75 @@ def _track(wrapper):
     registry[key] = weakref.ref(wrapper, forget)
 
 
+def _load_classes():
+    """Make sure MjModel and MjData have registered, before a Python callable is
+    installed: it may be called with pointers no mjcffi wrapper owns (an
+    official binding's).  The package's public attributes load them."""
+    if len(_CLASSES) < 2:
+        package = sys.modules[__name__.rpartition(".")[0]]
+        package.MjModel, package.MjData     # noqa: B018  (loading registers them)
+
+
 def _wrappers(m, d):
     """The MjModel and MjData wrappers of the pointers a callback received."""
     ref = _MODELS.get(m)
     model = ref() if ref is not None else None
     if model is None:
-        from .model import MjModel
-        model = MjModel._wrap(m, m)       # borrowed: valid during this call only
+        model = _CLASSES["mjModel"]._wrap(m, m)     # borrowed: valid during this call only
     ref = _DATAS.get(d)
     data = ref() if ref is not None else None
     if data is None:
-        from .data import MjData
-        data = MjData._wrap(d, d, _model=model)
+        data = _CLASSES["mjData"]._wrap(d, d, _model=model)
     return model, data
 
 
 # ------------------------------------------------------ stashed exceptions
+#
+# _errors maps the caller an exception is for to (order, exception), the first
+# stashed for it:
+# - a threading.Thread: raised on it, or on threads working for it (_scope);
+# - an int, the address of an mjData: raised on a thread no scope claims (an
+#   mjThreadPool's), for the thread whose mjcffi call is on that mjData;
+# - None: raised on such a thread with no mjData to go by.
 
 _lock = threading.Lock()
-_errors: dict = {}    # thread (None: MuJoCo's pool threads) -> first exception
-_pending = False      # bool(_errors): the only thing the fast path reads
+_errors: dict = {}
+_order = itertools.count()     # which exception came first, when one call finds several
+_pending = False               # what the fast path reads: something may be stashed
+_python = False                # a Python callable is installed in some slot
+_scopes: list = []             # [owner thread, set of mjData addresses or None: all]
 _Foreign = getattr(threading, "_DummyThread", ())    # threads Python did not start
 
 
+class _Local(threading.local):
+    lost = None     # an exception _stash could not take (at the recursion limit)
+
+
+_local = _Local()
+_nlost = 0          # threads with a `lost` exception
+_active = 0         # Python callbacks running (one inside the other, or on other threads)
+_DEEP = 8           # beyond this many, each callback checks the room left on its stack
+_ROOM = 60          # frames kept free for stashing and re-raising
+
+
 def raise_pending_callback_error():
-    """Raise the exception a Python callback stashed on this thread, if any.
+    """Raise the exception a Python callback stashed for this caller, if any.
 
     mjcffi's functions call this after each MuJoCo call that can run
-    callbacks; call it yourself after raw `lib` calls.  With nothing pending
-    it costs one test of a module flag.
+    callbacks; call it yourself after raw `lib` calls (from the frame that
+    holds the MjData, for a callback that ran on a thread pool bound to it).
+    With nothing pending it costs one test of a module flag.
     """
     if _pending:
-        _raise_stashed()
+        _raise(_take(sys._getframe(1)))
 
 
 def _raise_stashed():
-    error = _take()
+    """raise_pending_callback_error for mjcffi's own functions (called after `_pending`)."""
+    _raise(_take(sys._getframe(1)))
+
+
+def _raise(error):
     if error is not None:
         try:
             raise error
@@ -154,69 +212,204 @@ def _raise_stashed():
             error = None          # no cycle through this frame
 
 
-def _take():
-    global _pending
+def _take(frame=None):
+    """The first exception stashed for the caller at `frame` (its caller's by default).
+
+    That is this thread's, and those stashed on pool threads for an mjData
+    that the mjcffi frames above `frame` (and `frame` itself) were called with.
+    The others found with it came later in the same call: they are dropped.
+    """
+    global _pending, _nlost
     thread = threading.current_thread()
+    lost = _local.lost
+    if lost is not None:
+        _local.lost = None
+    if any(key.__class__ is int or key is None for key in list(_errors)):
+        addresses, pooled = _datas_of(frame if frame is not None else sys._getframe(1))
+    else:
+        addresses, pooled = (), False
     with _lock:
-        error = _errors.pop(thread, None)
-        if error is None:
-            error = _errors.pop(None, None)
-        for ended in [t for t in _errors if t is not None and not t.is_alive()]:
+        found = [_errors.pop(key) for key in (thread, *addresses) if key in _errors]
+        if pooled and None in _errors:
+            found.append(_errors.pop(None))
+        for ended in [t for t in _errors if isinstance(t, threading.Thread) and
+                      not t.is_alive()]:
             del _errors[ended]    # nobody is left to raise these in
-        _pending = bool(_errors)
-    return error
+        if lost is not None:
+            _nlost -= 1
+        _pending = bool(_errors) or _nlost > 0
+    if lost is not None:
+        return lost               # the deepest call's: the first
+    return min(found, key=lambda entry: entry[0])[1] if found else None
+
+
+def _datas_of(frame):
+    """The addresses of the mjData that `frame` and the mjcffi frames above it hold,
+    and whether one has a thread pool bound."""
+    addresses, pooled = set(), False
+    package = __name__.rpartition(".")[0]
+    for _ in range(6):
+        if frame is None:
+            break
+        for value in frame.f_locals.values():
+            if isinstance(value, ffi.CData):
+                pointer = value
+            elif getattr(value.__class__, "_cname", None) == "mjData":
+                pointer = getattr(value, "_ptr", None)
+            else:
+                continue
+            try:
+                if ffi.typeof(pointer) is not _DATA_POINTER:
+                    continue
+            except TypeError:
+                continue
+            addresses.add(int(ffi.cast("uintptr_t", pointer)))
+            pooled = pooled or bool(pointer.threadpool)
+        frame = frame.f_back
+        if frame is None or not frame.f_globals.get("__name__", "").startswith(package):
+            break
+    return addresses, pooled
+
+
+_DATA_POINTER = ffi.typeof("mjData *")
+
+
+def _stash(name, error, data):
+    """Keep `error`, raised in the Python `name` callback with mjData `data` (or None),
+    for its caller."""
+    global _pending
+    note = (f"(raised in the Python {name} callback, inside a MuJoCo call; "
+            f"mjcffi re-raised it when that call returned)")
+    thread = threading.current_thread()
+    key = _owner(data) if isinstance(thread, _Foreign) else thread
+    with _lock:
+        first = key not in _errors
+    if not first:
+        return
+    if note not in getattr(error, "__notes__", ()):
+        with_note(error, note)
+    with _lock:
+        _errors.setdefault(key, (next(_order), error))
+        _pending = True
+
+
+def _owner(data):
+    """Who an exception raised on a thread Python did not start is for (see _errors)."""
+    address = None if data is None else int(ffi.cast("uintptr_t", data))
+    with _lock:
+        scopes = list(_scopes)
+    for owner, addresses in scopes:
+        if addresses is not None and address in addresses:
+            return owner
+    for owner, addresses in scopes:
+        if addresses is None:
+            return owner          # a Batch: its mjData are its own
+    if scopes and address is None:
+        return scopes[0][0]
+    if address is not None:
+        return address
+    pooled = [root for root in list(_DATAS) if root.threadpool]
+    return int(ffi.cast("uintptr_t", pooled[0])) if len(pooled) == 1 else None
+
+
+def _scope(datas=None):
+    """Claim, for the calling thread, the exceptions of callbacks that run on threads
+    working for it (those of rollout or a Batch) until `_unscope`: on `datas`
+    (C pointers), or any (None).  Returns the claim, for `_unscope`."""
+    claim = [threading.current_thread(),
+             None if datas is None else {int(ffi.cast("uintptr_t", d)) for d in datas}]
+    with _lock:
+        _scopes.append(claim)
+    return claim
+
+
+def _unscope(claim):
+    with _lock:
+        _scopes.remove(claim)
 
 
 def _stasher(name):
-    """The cffi `onerror` of a trampoline: stash, and let MuJoCo get the neutral value."""
-    note = (f"(raised in the Python {name} callback, inside a MuJoCo call; "
-            f"mjcffi re-raised it when that call returned)")
-
+    """The cffi `onerror` of a trampoline: a backstop for what the body did not catch."""
     def stash(kind, error, traceback):
-        global _pending
-        thread = threading.current_thread()
-        key = None if isinstance(thread, _Foreign) else thread
-        with _lock:
-            first = key not in _errors
-            if first:
-                _errors[key] = error.with_traceback(traceback)
-            _pending = True
-        if first and note not in getattr(error, "__notes__", ()):
-            with_note(error, note)
+        _stash(name, error.with_traceback(traceback), None)
     return stash
 
 
+def _room(name):
+    """RecursionError when Python's recursion limit leaves fewer than _ROOM calls free.
+
+    Measured by making them: a frame count would miss the C calls that also
+    count (each trip through cffi and MuJoCo adds some).
+    """
+    try:
+        _descend(_ROOM)
+    except RecursionError:
+        raise with_note(RecursionError("maximum recursion depth exceeded while calling a "
+                                       "Python object"),
+                        f"the Python {name} callback re-entered MuJoCo, one call inside "
+                        f"the other, until Python's recursion limit was near") from None
+
+
+def _descend(n):
+    return n and _descend(n - 1)
+
+
 # ---------------------------------------------------------------- the slots
+
+_SLOTS: list = []
+
 
 class _Slot:
     """One global function pointer of libmujoco (an mjcb_* callback, an mju_user_*
     handler): its type, its trampoline, what mjcffi put there.  A slot made with
     python=False takes C function pointers only (mju_user_malloc: a Python
     allocator could not hand MuJoCo memory that outlives the call safely)."""
-    __slots__ = ("name", "ctype", "trampoline", "fn", "obj", "installed")
+    __slots__ = ("name", "ctype", "trampoline", "fn", "obj", "installed", "wraps")
 
-    def __init__(self, name, python=True):
+    def __init__(self, name, python=True, wraps=True):
         self.name = name
         self.ctype = ffi.typeof(getattr(lib, name))
         self.trampoline = getattr(lib, "mjcffi_py_" + name) if python else None
         self.fn = None            # the Python callable the trampoline calls
         self.obj = None           # what the user gave, kept alive while installed
         self.installed = None     # the pointer written into the global
+        self.wraps = wraps        # its callable receives MjModel and MjData wrappers
+        _SLOTS.append(self)
 
 
-def _attach(slot, body):
-    """Make `body` the Python side of the slot's trampoline."""
-    ffi.def_extern("mjcffi_py_" + slot.name, onerror=_stasher(slot.name))(body)
+def _attach(slot, trampoline):
+    """Make `trampoline` the Python side of the slot's C trampoline."""
+    ffi.def_extern("mjcffi_py_" + slot.name, onerror=_stasher(slot.name))(trampoline)
     return slot
 
+
+# The trampolines.  Each counts the callbacks running, so that a callback
+# re-entering MuJoCo raises RecursionError with room left to stash it (_room),
+# and stashes what the callable raised: MuJoCo gets the neutral value.  If even
+# stashing fails (at the recursion limit), the exception is kept in this
+# thread's `lost` by statements that call nothing.
 
 def _generic(name):
     slot = _Slot(name)
 
     def call(m, d):
+        global _active, _nlost, _pending
         fn = slot.fn
-        if fn is not None:
+        if fn is None:
+            return
+        _active += 1
+        try:
+            if _active > _DEEP:
+                _room(name)
             fn(*_wrappers(m, d))
+        except BaseException as error:
+            try:
+                _stash(name, error, d)
+            except BaseException:
+                if _local.lost is None:
+                    _local.lost, _nlost, _pending = error, _nlost + 1, True
+        finally:
+            _active -= 1
     return _attach(slot, call)
 
 
@@ -224,9 +417,23 @@ def _sensor(name):
     slot = _Slot(name)
 
     def call(m, d, stage):
+        global _active, _nlost, _pending
         fn = slot.fn
-        if fn is not None:
+        if fn is None:
+            return
+        _active += 1
+        try:
+            if _active > _DEEP:
+                _room(name)
             fn(*_wrappers(m, d), stage)
+        except BaseException as error:
+            try:
+                _stash(name, error, d)
+            except BaseException:
+                if _local.lost is None:
+                    _local.lost, _nlost, _pending = error, _nlost + 1, True
+        finally:
+            _active -= 1
     return _attach(slot, call)
 
 
@@ -234,16 +441,30 @@ def _contactfilter(name):
     slot = _Slot(name)
 
     def call(m, d, geom1, geom2):
+        global _active, _nlost, _pending
         fn = slot.fn
         if fn is None:
             return 0
-        result = fn(*_wrappers(m, d), geom1, geom2)
+        _active += 1
         try:
-            return 1 if operator.index(result) else 0
-        except TypeError:
-            raise with_note(TypeError(f"{name} callback did not return an integer"),
-                            f"it returned {type(result).__name__}; an int, nonzero to "
-                            f"discard the pair, is needed") from None
+            if _active > _DEEP:
+                _room(name)
+            result = fn(*_wrappers(m, d), geom1, geom2)
+            try:
+                return 1 if operator.index(result) else 0
+            except TypeError:
+                raise with_note(TypeError(f"{name} callback did not return an integer"),
+                                f"it returned {type(result).__name__}; an int, nonzero to "
+                                f"discard the pair, is needed") from None
+        except BaseException as error:
+            try:
+                _stash(name, error, d)
+            except BaseException:
+                if _local.lost is None:
+                    _local.lost, _nlost, _pending = error, _nlost + 1, True
+            return 0                      # keep the pair
+        finally:
+            _active -= 1
     return _attach(slot, call)
 
 
@@ -261,11 +482,27 @@ def _number(name, result):
 
 
 def _time(name):
-    slot = _Slot(name)
+    slot = _Slot(name, wraps=False)
 
     def call():
+        global _active, _nlost, _pending
         fn = slot.fn
-        return 0.0 if fn is None else _number(name, fn())
+        if fn is None:
+            return 0.0
+        _active += 1
+        try:
+            if _active > _DEEP:
+                _room(name)
+            return _number(name, fn())
+        except BaseException as error:
+            try:
+                _stash(name, error, None)
+            except BaseException:
+                if _local.lost is None:
+                    _local.lost, _nlost, _pending = error, _nlost + 1, True
+            return 0.0
+        finally:
+            _active -= 1
     return _attach(slot, call)
 
 
@@ -273,10 +510,24 @@ def _actuator(name):
     slot = _Slot(name)
 
     def call(m, d, actuator):
+        global _active, _nlost, _pending
         fn = slot.fn
         if fn is None:
             return 0.0
-        return _number(name, fn(*_wrappers(m, d), actuator))
+        _active += 1
+        try:
+            if _active > _DEEP:
+                _room(name)
+            return _number(name, fn(*_wrappers(m, d), actuator))
+        except BaseException as error:
+            try:
+                _stash(name, error, d)
+            except BaseException:
+                if _local.lost is None:
+                    _local.lost, _nlost, _pending = error, _nlost + 1, True
+            return 0.0
+        finally:
+            _active -= 1
     return _attach(slot, call)
 
 
@@ -325,6 +576,7 @@ def _from_ctypes(slot, function, ctypes):
 
 
 def _set(slot, callback):
+    global _python
     fn = None
     ctypes = sys.modules.get("ctypes")     # a ctypes function means ctypes is loaded
     if callback is None:
@@ -334,14 +586,18 @@ def _set(slot, callback):
     elif ctypes is not None and isinstance(callback, ctypes._CFuncPtr):
         pointer = _from_ctypes(slot, callback, ctypes)
     elif callable(callback) and slot.trampoline is not None:
+        if slot.wraps:
+            _load_classes()
         pointer, fn = slot.trampoline, callback
         slot.fn = fn                       # before MuJoCo can reach the trampoline
     else:
         raise _refused(slot, callback)
+    _python = True                         # rollout and Batch claim from now on
     setattr(lib, slot.name, pointer)
     # only now that MuJoCo no longer sees the old one, let it go
     slot.fn, slot.obj = fn, callback
     slot.installed = None if callback is None else pointer
+    _python = any(s.fn is not None for s in _SLOTS)
 
 
 def _refused(slot, callback):

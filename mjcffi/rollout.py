@@ -45,6 +45,7 @@ _USER = int(mjtState.mjSTATE_USER)
 _CTRL = int(mjtState.mjSTATE_CTRL)
 _MESSAGE_SIZE = 2048
 _INT_MAX = 2**31 - 1
+_MAX_THREADS = 4096      # the most threads a Rollout starts (its nthread)
 
 
 class Rollout:
@@ -62,6 +63,8 @@ class Rollout:
         nthread = 0 if nthread is None else _integer(nthread, "nthread", TypeError)
         if nthread < 0:
             raise ValueError(f"nthread must be non-negative, got {nthread}")
+        if nthread > _MAX_THREADS:
+            raise ValueError(f"nthread must be at most {_MAX_THREADS}, got {nthread}")
         self.nthread = nthread
         self._pool = self._start()
         self._open = True
@@ -73,7 +76,10 @@ class Rollout:
             return ffi.NULL
         pool = lib.mjcffi_rollout_pool_new(self.nthread)
         if pool == ffi.NULL:
-            raise RuntimeError(f"could not start the {self.nthread - 1} threads of a rollout pool")
+            raise with_note(ValueError(f"nthread={self.nthread}: the system could not start "
+                                       f"the {self.nthread - 1} threads of a rollout pool"),
+                            f"mjcffi allows up to {_MAX_THREADS}; the system's limit (ulimit "
+                            "-u, memory) was lower here")
         return ffi.gc(pool, lib.mjcffi_rollout_pool_free)
 
     def _forked(self):
@@ -196,16 +202,16 @@ class Rollout:
             if value is not None and value.shape != (nbatch, nstep, dim):
                 raise ValueError(f"{name} has shape {value.shape}; an output must have the "
                                  f"full shape (nbatch, nstep, {dim}) = {(nbatch, nstep, dim)}")
+        if nbatch > _INT_MAX or nstep > _INT_MAX:
+            raise ValueError(f"nbatch ({nbatch}) and nstep ({nstep}) must fit in a C int")
         if state is None:
-            state = np.empty((nbatch, nstep, nstate), _DTYPE)
+            state = _allocate((nbatch, nstep, nstate), "state")
         if sensordata is None:
-            sensordata = np.empty((nbatch, nstep, nsensordata), _DTYPE)
+            sensordata = _allocate((nbatch, nstep, nsensordata), "sensordata")
 
         datas = self._datas(data, first)
         if models.__class__ is list and len(models) == 1:
             models = first
-        if nbatch > _INT_MAX or nstep > _INT_MAX:
-            raise ValueError(f"nbatch ({nbatch}) and nstep ({nstep}) must fit in a C int")
         if nbatch == 0 or nstep == 0:
             return state, sensordata
 
@@ -311,14 +317,21 @@ class Rollout:
             chunk_size = max(1, nbatch // (10 * self.nthread)) if self.nthread else nbatch
         failed = np.zeros(nbatch, np.uint8)
         message = ffi.new("char[]", _MESSAGE_SIZE)
-        nfailed = lib.mjcffi_rollout(
-            pool, m, len(m), ffi.new("mjData*[]", datas), nbatch, nstep, control_spec,
-            min(chunk_size, _INT_MAX), _pointer(state0), state0_stride,
-            _pointer(warmstart0), warmstart0_stride,
-            _pointer(control), control_rstride, control_tstride,
-            _pointer(state), _pointer(sensordata),
-            ffi.from_buffer("unsigned char[]", failed), message, _MESSAGE_SIZE)
-        callbacks.raise_pending_callback_error()    # from a Python mjcb_* on any thread
+        # a Python callback's exception on the pool's threads is this call's
+        claim = callbacks._scope(datas) if callbacks._python and len(datas) > 1 else None
+        try:
+            nfailed = lib.mjcffi_rollout(
+                pool, m, len(m), ffi.new("mjData*[]", datas), nbatch, nstep, control_spec,
+                min(chunk_size, _INT_MAX), _pointer(state0), state0_stride,
+                _pointer(warmstart0), warmstart0_stride,
+                _pointer(control), control_rstride, control_tstride,
+                _pointer(state), _pointer(sensordata),
+                ffi.from_buffer("unsigned char[]", failed), message, _MESSAGE_SIZE)
+        finally:
+            if claim is not None:
+                callbacks._unscope(claim)
+        if callbacks._pending:
+            callbacks._raise_stashed()
         if nfailed:
             error = FatalError(ffi.string(message).decode("utf-8", "replace"))
             error.failed = np.flatnonzero(failed)
@@ -357,18 +370,38 @@ def _chunk_size(chunk_size):
     return chunk_size
 
 
+def _allocate(shape, name):
+    """An output array, or ValueError when nbatch x nstep x its width is too much memory."""
+    try:
+        return np.empty(shape, _DTYPE)
+    except MemoryError:
+        raise with_note(ValueError(f"the {name} output of shape {shape} does not fit in "
+                                   "memory"), "pass fewer rollouts or steps (nbatch, nstep), "
+                        "or an output array of your own") from None
+
+
+def _is_model(value):
+    """An MjModel instance (the class itself has the same `_cname`)."""
+    return getattr(value, "_cname", None) == "mjModel" and not isinstance(value, type)
+
+
+def _kind(value):
+    return f"the class {value.__name__} itself" if isinstance(value, type) else \
+        type(value).__name__
+
+
 def _models(model):
     """An MjModel as itself, any other iterable as a list of MjModels."""
-    if getattr(model, "_cname", None) == "mjModel":
+    if _is_model(model):
         return model
     try:
         models = list(model)
     except TypeError:
         raise TypeError(f"model must be an MjModel or a sequence of them, not "
-                        f"{type(model).__name__}") from None
+                        f"{_kind(model)}") from None
     for i, m in enumerate(models):
-        if getattr(m, "_cname", None) != "mjModel":
-            raise TypeError(f"model[{i}] must be an MjModel, not {type(m).__name__}")
+        if not _is_model(m):
+            raise TypeError(f"model[{i}] must be an MjModel, not {_kind(m)}")
     if not models:
         raise ValueError("model is an empty sequence")
     return models

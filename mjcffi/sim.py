@@ -20,6 +20,7 @@ call, the GIL released).  As in mujoco-py, a MuJoCo warning during
 
 import contextlib
 import copy
+import operator
 import os
 import threading
 import xml.etree.ElementTree as ElementTree
@@ -113,6 +114,7 @@ _HINTS = {
     mjtWarning.mjWARN_BADQACC: "NaN, Inf or huge value in qacc. " + _UNSTABLE,
     mjtWarning.mjWARN_BADCTRL: "NaN, Inf or huge value in ctrl: check the controls you set",
 }
+_INT_MAX = 2**31 - 1            # mj_step's nstep is a C int
 _local = threading.local()      # .ignoring: depth of ignore_mujoco_warnings() on this thread
 
 
@@ -159,8 +161,15 @@ class MjSimState(namedtuple("MjSimState", "time qpos qvel act udd_state")):
 
 def _split_flat(array, sim):
     """The parts of a flattened state, as views of `array` (udd scalars as floats)."""
+    if not isinstance(sim, MjSim):
+        raise TypeError(f"sim must be an MjSim, not {type(sim).__name__}")
     array = np.asarray(array, dtype=np.float64)
     nq, nv, na = sim.model.nq, sim.model.nv, sim.model.na
+    udd = [(key, np.shape(sim.udd_state[key])) for key in sorted(sim.udd_state)]
+    size = 1 + nq + nv + na + sum(int(np.prod(shape)) for _, shape in udd)
+    if array.ndim != 1 or array.size != size:
+        raise ValueError(f"a flattened state of this sim has {size} numbers, not {array.size}"
+                         + ("" if array.ndim == 1 else f" (shape {array.shape})"))
     qpos = array[1:1 + nq]
     qvel = array[1 + nq:1 + nq + nv]
     at = 1 + nq + nv
@@ -168,15 +177,12 @@ def _split_flat(array, sim):
     if na:
         act, at = array[at:at + na], at + na
     udd_state = {}
-    for key in sorted(sim.udd_state):
-        value = sim.udd_state[key]
-        if np.ndim(value) == 0:
+    for key, shape in udd:
+        if shape == ():
             udd_state[key], at = float(array[at]), at + 1
         else:
-            size = int(np.size(value))
-            udd_state[key], at = array[at:at + size].reshape(np.shape(value)), at + size
-    if array.ndim != 1 or at != array.size:
-        raise ValueError(f"a flattened state of this sim has {at} numbers, not {array.size}")
+            n = int(np.prod(shape))
+            udd_state[key], at = array[at:at + n].reshape(shape), at + n
     return array[0], qpos, qvel, act, udd_state
 
 
@@ -199,9 +205,7 @@ class MjSim:
             data = SimData(model)
         else:
             _marshal.model_data(model, data, "model", "data")     # same sizes, or TypeError
-        nsubsteps = int(nsubsteps)
-        if nsubsteps < 1:
-            raise ValueError(f"nsubsteps must be at least 1, not {nsubsteps}")
+        nsubsteps = _count(nsubsteps, "nsubsteps", 1)
         self.model, self.data, self.nsubsteps = model, data, nsubsteps
         self._pointers = _marshal.model_data(model, data)
         self._udd_callback = udd_callback
@@ -321,6 +325,8 @@ class MjSim:
         """
         if format not in ("xml", "mjb"):
             raise ValueError(f"format must be 'xml' or 'mjb', not {format!r}")
+        if not callable(getattr(file, "write", None)):
+            raise TypeError(f"file must be a file opened for writing, not {type(file).__name__}")
         text = _xml_with_key(self.model, self.data)
         if format == "xml":
             file.write(text if _is_text(file) else text.encode("utf-8"))
@@ -394,54 +400,82 @@ class MjSimPool:
     Each thread steps its share of the sims with mjcffi's C loop, which runs
     with the GIL released, so the sims advance in parallel; the results are
     those of stepping each sim alone.  `nsubsteps` is the pool's own count of
-    MuJoCo steps per `step()` (the sims' own counts are not used here).
+    MuJoCo steps per `step()` (the sims' own counts are not used here).  The
+    sims must have an MjData each: a sim given twice, or two sims on one
+    MjData, would be stepped by two threads at once.  An error in one sim
+    (a FatalError, a callback's exception, ...) is raised
+    once every other sim has stepped; the first one, in the order of `sims`.
     """
 
     def __init__(self, sims, nsubsteps=1, nthreads=None):
-        self.sims = list(sims)
-        if not self.sims or not all(isinstance(s, MjSim) for s in self.sims):
-            raise TypeError("sims must be a non-empty sequence of MjSim")
-        self.nsubsteps = int(nsubsteps)
-        if self.nsubsteps < 1:
-            raise ValueError(f"nsubsteps must be at least 1, not {nsubsteps}")
+        try:
+            self.sims = list(sims)
+        except TypeError:
+            raise TypeError(f"sims must be a sequence of MjSim, not {type(sims).__name__}") \
+                from None
+        _distinct(self.sims)
+        self.nsubsteps = _count(nsubsteps, "nsubsteps", 1)
         if nthreads is None:
             nthreads = os.cpu_count() or 1
-        self.nthreads = max(1, min(int(nthreads), len(self.sims)))
+        nthreads = _count(nthreads, "nthreads", 1)
+        self.nthreads = min(nthreads, len(self.sims))
         # the calling thread takes one share, the pool the others
         self._executor = (ThreadPoolExecutor(self.nthreads - 1, thread_name_prefix="MjSimPool")
                           if self.nthreads > 1 else None)
+        self._closed = False
 
     @classmethod
     def create_from_sim(cls, sim, nsims):
         """A pool of `nsims` sims on copies of `sim`'s model, each with its own fresh data."""
+        if not isinstance(sim, MjSim):
+            raise TypeError(f"sim must be an MjSim, not {type(sim).__name__}")
+        nsims = _count(nsims, "nsims", 1)
         sims = [MjSim(copy.copy(sim.model), nsubsteps=sim.nsubsteps,
-                      udd_callback=sim.udd_callback) for _ in range(int(nsims))]
+                      udd_callback=sim.udd_callback) for _ in range(nsims)]
         return cls(sims, nsubsteps=sim.nsubsteps)
 
     @property
     def nsims(self):
         return len(self.sims)
 
+    def _selected(self, nsims):
+        """The first `nsims` sims (all for None), checked: the pool open, each data once."""
+        if self._closed:
+            raise ValueError("MjSimPool is closed")
+        if nsims is None:
+            sims = self.sims
+        else:
+            nsims = _count(nsims, "nsims", 0)
+            if nsims > len(self.sims):
+                raise ValueError(f"nsims must be at most the pool's {len(self.sims)} sims, "
+                                 f"got {nsims}")
+            sims = self.sims[:nsims]
+        # `sims` is a public list: checked again at each call, in one set on the way
+        try:
+            distinct = len({sim.data._ptr for sim in sims}) == len(sims)
+        except AttributeError:
+            distinct = False
+        if not distinct and sims:
+            _distinct(sims)     # raises, naming the culprit
+        return sims
+
     def _run(self, job, nsims):
-        sims = self.sims if nsims is None else self.sims[:int(nsims)]
+        sims = self._selected(nsims)
         if not sims:
             return
         n = min(self.nthreads, len(sims))
         shares = [sims[i::n] for i in range(n)]
         futures = [self._executor.submit(_run_share, job, share, self.nsubsteps)
                    for share in shares[1:]]
-        first_error = None
-        try:
-            _run_share(job, shares[0], self.nsubsteps)
-        except BaseException as exc:       # still wait for the other threads
-            first_error = exc
-        for future in futures:
+        errors = [_run_share(job, shares[0], self.nsubsteps)]
+        for future in futures:     # wait for every share, whatever failed
             try:
-                future.result()
+                errors.append(future.result())
             except BaseException as exc:
-                first_error = first_error or exc
-        if first_error is not None:
-            raise first_error
+                errors.append([(-1, exc)])
+        if any(errors):            # the first in the order of `sims`
+            raise min(((i * n + k, exc) for k, share_errors in enumerate(errors)
+                       for i, exc in share_errors), key=lambda entry: entry[0])[1]
 
     def step(self, nsims=None):
         """Run `nsubsteps` steps of the first `nsims` sims (all by default), in parallel."""
@@ -453,12 +487,13 @@ class MjSimPool:
 
     def reset(self, nsims=None):
         """Reset the first `nsims` sims (all by default)."""
-        sims = self.sims if nsims is None else self.sims[:int(nsims)]
-        for sim in sims:
+        for sim in self._selected(nsims):
             sim.reset()
 
     def close(self):
-        """Stop the pool's threads (also done when the pool is collected)."""
+        """Stop the pool's threads (also done when the pool is collected); later calls
+        raise ValueError."""
+        self._closed = True
         if self._executor is not None:
             self._executor.shutdown(wait=True)
             self._executor = None
@@ -469,10 +504,41 @@ class MjSimPool:
             executor.shutdown(wait=False)
 
 
+def _count(value, name, least):
+    """`value` as an int from `least` to INT_MAX (the C loop's), or TypeError / ValueError."""
+    if isinstance(value, (bool, np.bool_)) or not hasattr(value, "__index__"):
+        raise TypeError(f"{name} must be an int, not {type(value).__name__}")
+    value = operator.index(value)
+    if not least <= value <= _INT_MAX:
+        raise ValueError(f"{name} must be from {least} to {_INT_MAX}, not {value}")
+    return value
+
+
+def _distinct(sims):
+    """TypeError unless all are MjSim; ValueError if two are one, or share an MjData."""
+    if not sims:
+        raise TypeError("sims must be a non-empty sequence of MjSim")
+    seen = {}
+    for i, sim in enumerate(sims):
+        if not isinstance(sim, MjSim):
+            raise TypeError(f"sims[{i}] must be an MjSim, not {type(sim).__name__}")
+        pointer = getattr(sim.data, "_ptr", None)
+        first = seen.setdefault(pointer, i)
+        if first != i:
+            what = "is" if sims[first] is sim else "shares its MjData with"
+            raise ValueError(f"sims[{i}] {what} sims[{first}]: each sim of a pool needs an "
+                             "MjData of its own, which one thread steps")
+
+
 def _run_share(job, sims, nsubsteps):
-    if job is mj_step:
-        for sim in sims:
-            mj_step(sim.model, sim.data, nsubsteps)
-    else:
-        for sim in sims:
-            job(sim.model, sim.data)
+    """Step (or forward) each sim; [(index in `sims`, exception)] for those that raised."""
+    errors = []
+    for i, sim in enumerate(sims):
+        try:
+            if job is mj_step:
+                mj_step(sim.model, sim.data, nsubsteps)
+            else:
+                job(sim.model, sim.data)
+        except Exception as exc:
+            errors.append((i, exc))
+    return errors

@@ -40,12 +40,26 @@ __all__ = [
 
 
 def _message(name):
-    slot = _cb._Slot(name)
+    slot = _cb._Slot(name, wraps=False)
 
     def call(msg):
+        # as the trampolines of mjcffi/callbacks.py
         fn = slot.fn
-        if fn is not None:
+        if fn is None:
+            return
+        _cb._active += 1
+        try:
+            if _cb._active > _cb._DEEP:
+                _cb._room(name)
             fn(ffi.string(msg).decode("utf-8", "replace"))
+        except BaseException as error:
+            try:
+                _cb._stash(name, error, None)
+            except BaseException:
+                if _cb._local.lost is None:
+                    _cb._local.lost, _cb._nlost, _cb._pending = error, _cb._nlost + 1, True
+        finally:
+            _cb._active -= 1
     return _cb._attach(slot, call)
 
 

@@ -263,3 +263,55 @@ def test_udd_callback_and_state():
     sim.step()
     with pytest.raises(ValueError, match="shape"):
         sim.step()
+
+
+# nq 8 != nv 7 (a free joint and a hinge); na 2 (a filter and an integrator actuator)
+_FREE_AND_ACTIVATION = """
+<mujoco>
+  <worldbody>
+    <body name="ball" pos="0 0 .5"><freejoint/><geom size=".1"/></body>
+    <body name="arm" pos="1 0 1">
+      <joint name="hinge" type="hinge" axis="0 1 0"/>
+      <geom type="capsule" fromto="0 0 0 0 0 -.4" size=".04"/>
+    </body>
+  </worldbody>
+  <actuator>
+    <general joint="hinge" dyntype="filter" dynprm=".1"/>
+    <general joint="hinge" dyntype="integrator"/>
+  </actuator>
+</mujoco>
+"""
+
+
+def test_item_flatten_layout_is_mujoco_pys_value_by_value():
+    # mujoco-py: [time] + qpos + qvel + act + the udd_state values, keys sorted,
+    # arrays raveled.  Every value is distinct, so a swap of any two parts shows.
+    sim = MjSim(load_model_from_xml(_FREE_AND_ACTIVATION),
+                udd_callback=lambda s: {"zeta": np.array([[70.0, 71.0]]), "alpha": 60.0})
+    m, d = sim.model, sim.data
+    assert (m.nq, m.nv, m.na) == (8, 7, 2)
+    d.time = 0.5
+    d.qpos[:] = 10 + np.arange(m.nq)
+    d.qvel[:] = 20 + np.arange(m.nv)
+    d.act[:] = 30 + np.arange(m.na)
+    state = sim.get_state()
+    flat = state.flatten()
+    expected = [0.5,
+                10, 11, 12, 13, 14, 15, 16, 17,        # qpos: 7 of the free joint, 1 hinge
+                20, 21, 22, 23, 24, 25, 26,            # qvel: 6 + 1
+                30, 31,                                # act
+                60.0,                                  # udd_state["alpha"]
+                70.0, 71.0]                            # udd_state["zeta"], raveled
+    assert flat.dtype == np.float64 and flat.tolist() == expected
+    again = MjSimState.from_flattened(flat, sim)
+    assert again.time == 0.5
+    assert again.qpos.tolist() == expected[1:9] and again.qvel.tolist() == expected[9:16]
+    assert again.act.tolist() == [30, 31] and again.udd_state["alpha"] == 60.0
+    assert again.udd_state["zeta"].tolist() == [[70.0, 71.0]]       # its shape back
+    # and into a sim: each part lands in its own field
+    d.qpos[:], d.qvel[:], d.act[:], d.time = 0, 0, 0, 0
+    sim.set_state_from_flattened(flat)
+    assert d.time == 0.5 and d.qpos.tolist() == expected[1:9]
+    assert d.qvel.tolist() == expected[9:16] and d.act.tolist() == [30, 31]
+    with pytest.raises(ValueError, match="21 numbers, not 20"):
+        MjSimState.from_flattened(flat[:-1], sim)
