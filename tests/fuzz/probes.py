@@ -1,0 +1,675 @@
+"""Scenario probes: issue 11's triggers as reusable checks.
+
+Each probe is a small function registered with `@probe(item, expect)`.  They
+run in a subprocess (`run_all`, `run(name)`), one after the other; a probe that
+crashes it fails, and the rest go on in a fresh one, so that a crash fails the
+probe instead of the caller.  `expect`:
+- "no crash": the scenario completes, or raises an exception of the
+  documented set (TypeError, ValueError, IndexError, KeyError, FatalError);
+- "raises": it must raise an exception of the documented set;
+- "clean": it must complete without any exception.
+A probe may also raise ProbeFailure itself for a check of its own (a lost
+exception, a value silently corrupted).
+
+    python -m tests.fuzz --probes            # every probe, a markdown table
+    python -c "from tests.fuzz import probes; print(probes.run('camera_frame_null_forward'))"
+"""
+
+import gc
+import os
+import subprocess
+import sys
+import threading
+from dataclasses import dataclass
+
+from .runner import ROOT, _describe_status, worker_env
+
+PROBES = {}
+
+
+class ProbeFailure(AssertionError):
+    """The scenario ran, but did something the promise forbids (a lost exception, ...)."""
+
+
+@dataclass
+class Probe:
+    name: str
+    item: str
+    expect: str
+    function: object
+
+    @property
+    def doc(self):
+        return " ".join((self.function.__doc__ or "").split())
+
+
+def probe(item, expect="no crash"):
+    def register(function):
+        PROBES[function.__name__] = Probe(function.__name__, item, expect, function)
+        return function
+    return register
+
+
+# ---------------------------------------------------------------- helpers
+
+def _model():
+    import mjcffi
+    from .env import XML
+    m = mjcffi.MjModel.from_xml_string(XML)
+    d = mjcffi.MjData(m)
+    mjcffi.mj_forward(m, d)
+    return m, d
+
+
+def _zeros(n):
+    import numpy as np
+    from . import guard
+    return guard.zeros((n,), np.float64)
+
+
+def _documented():
+    """The documented set, and NotImplementedError: the functions mjcffi does not wrap
+    (codegen's UNSUPPORTED, listed in the README) raise it."""
+    from .target import documented
+    return documented() + (NotImplementedError,)
+
+
+def _attempt(function, *args):
+    """Call `function`; a documented exception is fine (returned), any other propagates."""
+    try:
+        function(*args)
+    except _documented() as exc:
+        return exc
+    return None
+
+
+# ------------------------------------------------------------ the probes
+
+@probe("item 1")
+def camera_frame_null_forward():
+    """mjv_cameraFrame(headpos, None, up, right, d, MjvCamera())"""
+    import mjcffi
+    m, d = _model()
+    mjcffi.mjv_cameraFrame(_zeros(3), None, _zeros(3), _zeros(3), d, mjcffi.MjvCamera())
+
+
+@probe("item 1")
+def camera_frame_all_null():
+    """mjv_cameraFrame(None, None, None, None, d, MjvCamera()), and each output None alone"""
+    import mjcffi
+    m, d = _model()
+    for i in range(4):
+        outs = [_zeros(3) for _ in range(4)]
+        outs[i] = None
+        _attempt(mjcffi.mjv_cameraFrame, *outs, d, mjcffi.MjvCamera())
+    mjcffi.mjv_cameraFrame(None, None, None, None, d, mjcffi.MjvCamera())
+
+
+def _count_fields(cname):
+    from mjcffi._structinfo import STRUCTS
+    return [f.name for f in STRUCTS[cname]
+            if f.kind == "scalar" and f.elem in ("int", "mjtSize")
+            and (f.name.startswith("n") or f.name.startswith("max"))]
+
+
+@probe("item 2")
+def scene_count_nflex():
+    """scn.nflex = 10**9; scn.flexvertadr.sum()"""
+    import mjcffi
+    m, d = _model()
+    scn = mjcffi.MjvScene(m, maxgeom=10)
+    scn.nflex = 10**9
+    scn.flexvertadr.sum()
+
+
+@probe("item 2")
+def scene_every_count():
+    """every writable count of MjvScene, MjvFigure, MjuiState set to 10**9, -1, 2**31-1,
+    then every field read"""
+    import mjcffi
+    from .entries import _read_all
+    m, d = _model()
+    for cname, make in (("mjvScene", lambda: mjcffi.MjvScene(m, maxgeom=10)),
+                        ("mjvFigure", mjcffi.MjvFigure), ("mjuiState", mjcffi.MjuiState),
+                        ("mjvPerturb", mjcffi.MjvPerturb)):
+        for field in _count_fields(cname):
+            for value in (10**9, -1, 2**31 - 1):
+                obj = make()
+                if _attempt(setattr, obj, field, value) is None:
+                    _read_all(obj, cname)
+
+
+def _header(d):
+    """The header bytes of an MjData's pickle (entries.PARTS)."""
+    from .entries import _reduced
+    return _reduced(d)[1][1]
+
+
+def _data_pickle(m, d, header):
+    import pickle
+    from .entries import _reduced
+    func, args = _reduced(d)
+    args[1] = header
+
+    class Reduced:
+        def __reduce__(self):
+            return func, tuple(args)
+    return pickle.dumps(Reduced())
+
+
+def _use(m, d):
+    import mjcffi
+    from .entries import _read_all
+    _read_all(d, "mjData")
+    mjcffi.mj_forward(m, d)
+    mjcffi.mj_step(m, d)
+    _read_all(d, "mjData")
+
+
+def _unpickle_and_use(m, raw):
+    import pickle
+    try:
+        d2 = pickle.loads(raw)
+    except _documented():
+        return
+    _use(m, d2)
+
+
+@probe("item 3")
+def pickle_ncon_huge():
+    """an MjData pickle with ncon = 10**7 in its header"""
+    from mjcffi import ffi
+    m, d = _model()
+    raw = bytearray(_header(d))
+    off = ffi.offsetof("mjData", "ncon")
+    raw[off:off + 4] = (10**7).to_bytes(4, "little")
+    _unpickle_and_use(m, _data_pickle(m, d, bytes(raw)))
+
+
+@probe("item 3")
+def pickle_qvel_pointer_flip():
+    """an MjData pickle with one byte of its qvel pointer flipped (each of the 8 bytes);
+    where the pickle holds no pointers (mjcffi's format keeps offsets in a `layout`
+    part), each of the layout's first 256 bytes flipped instead"""
+    import pickle
+    from mjcffi import ffi
+    from .entries import PARTS, _reduced
+    m, d = _model()
+    func, args = _reduced(d)
+    off = ffi.offsetof("mjData", "qvel")
+    if off + 8 <= len(args[1]):
+        for byte in range(8):
+            raw = bytearray(args[1])
+            raw[off + byte] ^= 0x10
+            _unpickle_and_use(m, _data_pickle(m, d, bytes(raw)))
+        return
+    index = PARTS.index("layout")
+    layout = args[index]
+    for byte in range(min(256, len(layout))):
+        changed = list(args)
+        raw = bytearray(layout)
+        raw[byte] ^= 0x10
+        changed[index] = bytes(raw)
+
+        class Reduced:
+            def __reduce__(self, changed=changed):
+                return func, tuple(changed)
+        _unpickle_and_use(m, pickle.dumps(Reduced()))
+
+
+@probe("item 3")
+def pickle_random_flips():
+    """200 MjData pickles, each with one random byte of the header's sizes and pointers
+    flipped (seeded)"""
+    import random
+    from mjcffi import ffi
+    m, d = _model()
+    h = _header(d)
+    rng = random.Random(11)
+    regions = [(0, min(len(h), ffi.offsetof("mjData", "solver"))),
+               (min(len(h) - 8, ffi.offsetof("mjData", "buffer")), len(h))]
+    for _ in range(200):
+        lo, hi = rng.choice(regions)
+        raw = bytearray(h)
+        raw[rng.randrange(lo, hi)] ^= rng.randrange(1, 256)
+        _unpickle_and_use(m, _data_pickle(m, d, bytes(raw)))
+
+
+@probe("item 4", expect="clean")
+def raising_callback_then_rollout():
+    """a raising control callback, a 2-thread rollout, then set_mjcb_control(None):
+    mj_step must not raise"""
+    import numpy as np
+    import mjcffi
+    from mjcffi import rollout
+
+    def control(m, d):
+        raise RuntimeError("from the control callback")
+
+    m, d = _model()
+    mjcffi.set_mjcb_control(control)
+    state = np.zeros((2, mjcffi.mj_stateSize(m, mjcffi.mjtState.mjSTATE_FULLPHYSICS)))
+    try:
+        rollout.rollout([m, m], [d, mjcffi.MjData(m)], state, nstep=3)
+    except Exception:
+        pass
+    try:
+        mjcffi.mj_step(m, d)
+    except Exception:
+        pass
+    mjcffi.set_mjcb_control(None)
+    mjcffi.mj_step(m, d)
+    mjcffi.mj_step(m, mjcffi.MjData(m))
+
+
+@probe("item 5")
+def reentrant_step_raises():
+    """a control callback that calls mj_step on the same data: the outer mj_step must
+    raise, not swallow"""
+    import mjcffi
+    m, d = _model()
+    seen = []
+
+    def control(model, data):
+        seen.append(1)
+        mjcffi.mj_step(model, data)
+
+    mjcffi.set_mjcb_control(control)
+    try:
+        mjcffi.mj_step(m, d)
+    except _documented() + (RuntimeError,):
+        return
+    finally:
+        mjcffi.set_mjcb_control(None)
+    if seen:
+        raise ProbeFailure("mj_step re-entered from its own control callback did not raise")
+
+
+@probe("item 6")
+def sim_pool_same_sim():
+    """MjSimPool([sim, sim]).step()"""
+    import mjcffi
+    from mjcffi import sim
+    m, d = _model()
+    s = sim.MjSim(m)
+    sim.MjSimPool([s, s]).step()
+    del mjcffi
+
+
+@probe("item 7")
+def scene_geom_after_free():
+    """g = scn.geoms[0]; mjv_freeScene(scn) / mjv_makeScene(m, scn, 10); then read/write g"""
+    import mjcffi
+    m, d = _model()
+    scn = mjcffi.MjvScene(m, maxgeom=100)
+    mjcffi.mjv_updateScene(m, d, mjcffi.MjvOption(), None, mjcffi.MjvCamera(), 7, scn)
+    g = scn.geoms[0]
+    mjcffi.mjv_freeScene(scn)
+    _attempt(repr, g)
+    _attempt(setattr, g, "size", [1.0, 2.0, 3.0])
+    mjcffi.mjv_makeScene(m, scn, 10)
+    _attempt(repr, g)
+    _attempt(setattr, g, "size", [1.0, 2.0, 3.0])
+    g2 = scn.geoms[9]
+    mjcffi.mjv_makeScene(m, scn, 2)
+    _attempt(repr, g2)
+    _attempt(setattr, g2, "rgba", [1.0, 1.0, 1.0, 1.0])
+
+
+@probe("item 8")
+def spec_deleted_element():
+    """mjs_delete of a spec element, then reading and writing its wrapper"""
+    from mjcffi import functions as F
+    s = F.mj_makeSpec()
+    body = F.mjs_addBody(F.mjs_findBody(s, "world"), None)
+    geom = F.mjs_addGeom(body, None)
+    F.mjs_delete(s, geom.element)
+    _attempt(repr, geom)
+    _attempt(setattr, geom, "size", [1.0, 1.0, 1.0])
+    F.mjs_delete(s, body.element)
+    _attempt(repr, body)
+    _attempt(F.mjs_addGeom, body, None)
+
+
+@probe("item 8")
+def spec_delete_world():
+    """mjs_delete of the world body, then freeing the spec"""
+    from mjcffi import functions as F
+    s = F.mj_makeSpec()
+    world = F.mjs_findBody(s, "world")
+    _attempt(F.mjs_delete, s, world.element)
+    del s, world
+    gc.collect()
+
+
+@probe("item 9")
+def vfs_mount_then_drop():
+    """mj_mountVFS(vfs, 'x', MjpResourceProvider()); del vfs; gc (MALLOC_PERTURB_=165)"""
+    import mjcffi
+    vfs = mjcffi.MjVfs()
+    _attempt(mjcffi.mj_mountVFS, vfs, "x", mjcffi.MjpResourceProvider())
+    del vfs
+    gc.collect()
+    m, d = _model()
+    mjcffi.mj_step(m, d)
+
+
+@probe("item 10")
+def get_sdf_int_min():
+    """mjc_getSDF(m, -2**31)"""
+    import mjcffi
+    m, d = _model()
+    for value in (-2**31, -1, 2**31 - 1, m.nplugin, m.ngeom):
+        _attempt(mjcffi.mjc_getSDF, m, value)
+
+
+@probe("MuJoCo")
+def local2global_body_max():
+    """mj_local2Global(d, ..., body=2**31-1, ...)"""
+    import mjcffi
+    import numpy as np
+    m, d = _model()
+    for body in (2**31 - 1, -1, -2**31, m.nbody):
+        _attempt(mjcffi.mj_local2Global, d, _zeros(3), np.zeros(9), _zeros(3),
+                 np.array([1.0, 0, 0, 0]), body, 0)
+
+
+@probe("MuJoCo")
+def ray_flex_id_max():
+    """mj_rayFlex(..., flexid=2**31-1, ...)"""
+    import mjcffi
+    import numpy as np
+    m, d = _model()
+    for flexid in (2**31 - 1, -1, -2**31, m.nflex):
+        _attempt(mjcffi.mj_rayFlex, m, d, 0, 1, 1, 1, 1, flexid, _zeros(3),
+                 np.array([0.0, 0.0, -1.0]), np.zeros(1, np.int32), _zeros(3))
+
+
+@probe("FatalError")
+def mjr_context_twice():
+    """MjrContext(m, 100) twice without an OpenGL context: each must raise FatalError,
+    and the process go on"""
+    import mjcffi
+    m, d = _model()
+    for _ in range(2):
+        _attempt(mjcffi.MjrContext, m, 100)
+
+
+@probe("threads")
+def two_threads_one_data():
+    """the same MjData stepped from two Python threads at once (started together, each
+    stepping 500 steps per call in C, so that the calls overlap on every run)"""
+    import mjcffi
+    m, d = _model()
+    errors = []
+    start = threading.Barrier(2)
+
+    def run():
+        start.wait()
+        try:
+            for _ in range(20):
+                mjcffi.mj_step(m, d, 500)
+        except _documented():
+            pass
+        except BaseException as exc:
+            errors.append(exc)
+    for _ in range(5):                  # a race may end in a FatalError instead
+        mjcffi.mj_resetData(m, d)
+        threads = [threading.Thread(target=run) for _ in range(2)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+    if errors:
+        raise errors[0]
+
+
+@probe("lifetimes")
+def view_outlives_model():
+    """a model's array view, and a data's, read and written after both are collected"""
+    import mjcffi
+    m, d = _model()
+    pos, qpos = m.body_pos, d.qpos
+    del m, d
+    gc.collect()
+    pos.sum()
+    qpos[:] = 1.0
+
+
+@probe("lifetimes")
+def accessor_outlives_data():
+    """a named accessor, a contact and a warning struct read after their data is collected"""
+    m, d = _model()
+    joint, contact, warning = d.joint("hinge"), d.contact[0], d.warning[0]
+    del d
+    gc.collect()
+    joint.qpos.sum()
+    repr(joint)
+    repr(contact)
+    repr(warning)
+
+
+@probe("rollout", expect="raises")
+def rollout_nthread_2_31():
+    """Rollout(nthread=2**31)"""
+    from mjcffi import rollout
+    rollout.Rollout(nthread=2**31).close()
+
+
+@probe("rollout", expect="raises")
+def rollout_nthread_10_9():
+    """Rollout(nthread=10**9) must be refused, not attempted"""
+    from mjcffi import rollout
+    rollout.Rollout(nthread=10**9).close()
+
+
+@probe("batch", expect="raises")
+def batch_step_nstep_2_31():
+    """Batch.step(nstep=2**31)"""
+    from mjcffi import batch
+    m, d = _model()
+    with batch.Batch(m, 2) as b:
+        b.step(nstep=2**31)
+
+
+@probe("structs", expect="raises")
+def warning_number_2_40():
+    """d.warning[0].number = 2**40"""
+    m, d = _model()
+    d.warning[0].number = 2**40
+
+
+@probe("sim", expect="raises")
+def sim_pool_closed_step():
+    """MjSimPool.close() then step()"""
+    from mjcffi import sim
+    m, d = _model()
+    pool = sim.MjSimPool([sim.MjSim(m)])
+    pool.close()
+    pool.step()
+
+
+@probe("batch")
+def batch_expand_parentid():
+    """Batch.expand('body_parentid'), then step"""
+    from mjcffi import batch
+    m, d = _model()
+    with batch.Batch(m, 2) as b:
+        _attempt(b.expand, "body_parentid")
+        b.step()
+
+
+@probe("rollout")
+def rollout_bad_inputs():
+    """rollout with mismatched models, short states, read-only outputs, nstep=2**31"""
+    import numpy as np
+    import mjcffi
+    from mjcffi import rollout
+    from .env import OTHER_XML
+    m, d = _model()
+    other = mjcffi.MjModel.from_xml_string(OTHER_XML)
+    n = mjcffi.mj_stateSize(m, mjcffi.mjtState.mjSTATE_FULLPHYSICS)
+    state = np.zeros((2, n))
+    ro = np.zeros((2, 3, n))
+    ro.flags.writeable = False
+    for kwargs in ({"model": [m, other], "data": d, "initial_state": state, "nstep": 3},
+                   {"model": m, "data": d, "initial_state": state[:, :-1], "nstep": 3},
+                   {"model": m, "data": d, "initial_state": state, "nstep": 3, "state": ro},
+                   {"model": m, "data": d, "initial_state": state, "nstep": 2**31},
+                   {"model": m, "data": d, "initial_state": state, "nstep": -1},
+                   {"model": m, "data": [d, d], "initial_state": state, "nstep": 3},
+                   {"model": m, "data": mjcffi.MjData(other), "initial_state": state,
+                    "nstep": 3}):
+        _attempt(lambda: rollout.rollout(**kwargs))
+
+
+# -------------------------------------------------------------- running
+
+@dataclass
+class ProbeResult:
+    name: str
+    item: str
+    passed: bool
+    status: str           # ok, raised X, crash (SIGSEGV), timeout, failed: ...
+    detail: str = ""
+
+    @property
+    def known(self):
+        from .known import match
+        return match(f"probe:{self.name}|-|-") is not None
+
+
+def _verdict(name):
+    """Run probe `name` in this process: its verdict line."""
+    p = PROBES[name]
+    try:
+        p.function()
+    except ProbeFailure as exc:
+        return f"FAIL {exc}"
+    except _documented() as exc:
+        from .worker import _innermost_is_fuzzer
+        if _innermost_is_fuzzer(exc):
+            return f"FAIL the probe's own code raised {type(exc).__name__}: {_one_line(exc)}"
+        verdict = "FAIL" if p.expect == "clean" else "OK"
+        return f"{verdict} raised {type(exc).__name__}: {_one_line(exc)}"
+    except BaseException as exc:     # noqa: B902 (an undocumented type is the finding)
+        return (f"FAIL undocumented {type(exc).__module__}.{type(exc).__name__}: "
+                f"{_one_line(exc)}")
+    gc.collect()
+    if p.expect == "raises":
+        return "FAIL completed, but it must raise"
+    return "OK completed"
+
+
+def _one_line(exc):
+    return " ".join(str(exc).split())[:200]
+
+
+def _run_many(names, fd):
+    """The subprocess's side: each probe in turn, `START name` before it and
+    `DONE name verdict` after it, on file descriptor `fd`."""
+    from .worker import _reset_globals, limit_memory
+    limit_memory()
+    out = os.fdopen(fd, "w", buffering=1, encoding="utf-8", errors="backslashreplace")
+    for name in names:
+        out.write(f"START\t{name}\n")
+        out.flush()
+        verdict = _verdict(name)
+        _reset_globals()
+        gc.collect()
+        out.write(f"DONE\t{name}\t{verdict}\n")
+        out.flush()
+
+
+def _run_batch(names, timeout):
+    """Run `names` in one subprocess: ({name: verdict}, (crashed name, status, stderr) or None)."""
+    import json
+    import select
+    import signal
+    import tempfile
+    import time
+    read_fd, write_fd = os.pipe()
+    with tempfile.TemporaryFile() as err:
+        code = (f"from tests.fuzz import probes; "
+                f"probes._run_many({json.dumps(list(names))}, {write_fd})")
+        proc = subprocess.Popen([sys.executable, "-X", "faulthandler", "-c", code],
+                                pass_fds=(write_fd,), stdin=subprocess.DEVNULL,
+                                stdout=subprocess.DEVNULL, stderr=err, env=worker_env(),
+                                cwd=str(ROOT), start_new_session=True)
+        os.close(write_fd)
+        verdicts, current, buffer, hung = {}, None, b"", False
+        with os.fdopen(read_fd, "rb", buffering=0) as pipe:
+            last = time.monotonic()
+            while True:
+                ready, _, _ = select.select([pipe], [], [], 0.5)
+                if ready:
+                    chunk = pipe.read(65536)
+                    if not chunk:
+                        break
+                    buffer += chunk
+                    *lines, buffer = buffer.split(b"\n")
+                    for line in lines:
+                        parts = line.decode("utf-8", "replace").split("\t")
+                        if parts[0] == "START":
+                            current = parts[1]
+                        elif parts[0] == "DONE":
+                            verdicts[parts[1]] = parts[2]
+                            current = None
+                    last = time.monotonic()
+                elif time.monotonic() - last > timeout:
+                    hung = True
+                    break
+        if hung:
+            try:
+                os.killpg(proc.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+        rc = proc.wait()
+        err.seek(0)
+        tail = err.read()[-1500:].decode("utf-8", "replace")
+    if current is not None:
+        return verdicts, (current, "timeout" if hung else _describe_status(rc), tail)
+    if not verdicts and names:
+        raise RuntimeError(f"the probe process did not start ({_describe_status(rc)}):\n{tail}")
+    return verdicts, None
+
+
+def run_all(names=None, timeout=60):
+    """Run the probes (all by default) in as few subprocesses as crashes allow: a list of
+    ProbeResult in the order of `names`."""
+    names = list(names or PROBES)
+    results = {}
+    pending = list(names)
+    while pending:
+        verdicts, crash = _run_batch(pending, timeout)
+        for name, verdict in verdicts.items():
+            passed = verdict.startswith("OK")
+            results[name] = ProbeResult(name, PROBES[name].item, passed,
+                                        verdict.split(" ", 1)[1] if " " in verdict else "")
+        if crash is not None:
+            name, status, tail = crash
+            label = "timeout" if status == "timeout" else f"crash ({status})"
+            results[name] = ProbeResult(name, PROBES[name].item, False, label, tail)
+        pending = [n for n in pending if n not in results]
+    return [results[n] for n in names]
+
+
+def run(name, timeout=60):
+    """Run probe `name` alone in a subprocess: a ProbeResult."""
+    return run_all([name], timeout)[0]
+
+
+def markdown(results):
+    if not results:
+        return ""
+    lines = ["", "## Scenario probes", "",
+             "| probe | item | scenario | result |", "| --- | --- | --- | --- |"]
+    for r in results:
+        verdict = "pass" if r.passed else ("known: " if r.known else "FAIL: ")
+        if not r.passed:
+            verdict += r.status
+        lines.append(f"| {r.name} | {r.item} | {PROBES[r.name].doc} | {verdict} |")
+    failing = [r for r in results if not r.passed and r.detail]
+    for r in failing:
+        lines += ["", f"### {r.name}: {r.status}", "", "```", r.detail.strip()[-1200:], "```"]
+    return "\n".join(lines) + "\n"
