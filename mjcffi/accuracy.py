@@ -261,9 +261,18 @@ def simulate(scene, base_model, setting, samples=200):
 
 
 def quat_angle(q1, q2):
-    """Rotation angle between two unit quaternions, radians."""
-    c = abs(float(np.dot(q1, q2)) / (np.linalg.norm(q1) * np.linalg.norm(q2)))
-    return 2.0 * math.acos(min(1.0, c))
+    """Rotation angle between two orientation quaternions, radians, in [0, pi].
+
+    The angle of the relative rotation conj(q1)*q2 = (w, v) is 2*atan2(|v|, |w|).
+    acos of the cosine w alone would lose every angle below about 1e-8 rad
+    (cos(1e-8) rounds to 1), reporting an exact 0; |v| keeps them.
+    """
+    a = np.asarray(q1, dtype=np.float64)
+    b = np.asarray(q2, dtype=np.float64)
+    a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
+    w = float(a[0] * b[0] + a[1:] @ b[1:])
+    v = a[0] * b[1:] - b[0] * a[1:] - np.cross(a[1:], b[1:])
+    return 2.0 * math.atan2(float(np.linalg.norm(v)), abs(w))
 
 
 def position_error(m, qpos, ref):

@@ -25,6 +25,7 @@ import numpy as np
 from ._errors import with_note
 from ._library import ffi
 from ._namedinfo import ALIASES, CATEGORIES, MjDataNames, MjModelNames
+from ._structinfo import STRUCTS
 from ._views import DTYPES, view
 
 __all__ = ["Accessor", "MjDataNames", "MjModelNames", "NamedAccess", "accessor_class"]
@@ -203,14 +204,21 @@ def _joint_span(m, i, kind):
     return adr, widths.get(m.jnt_type[i], 1)
 
 
+# Every mjModel field that places an element's state in mjData.plastic, with the
+# size that counts its elements: (jnt_plasticadr, njnt), (flex_plasticadr, nflex), ...
+_PLASTIC_STARTS = tuple((f.name, f.extents[0][2:]) for f in STRUCTS["mjModel"]
+                        if f.name.endswith("_plasticadr"))
+
+
 def _plastic_span(m, i, adr_field):
     """Where element i's plastic state starts in mjData.plastic, and its length:
-    up to the next address any joint or tendon starts at, or to nplastic."""
+    up to the next address any element (joint, flex, tendon) starts at, or to
+    nplastic."""
     adr = getattr(m, adr_field)[i]
     if adr < 0:
         return 0, 0
-    starts = [a for name, count in (("jnt_plasticadr", m.njnt), ("tendon_plasticadr", m.ntendon))
-              for a in ffi.unpack(getattr(m, name), count) if a > adr]
+    starts = [a for name, count in _PLASTIC_STARTS
+              for a in ffi.unpack(getattr(m, name), getattr(m, count)) if a > adr]
     return adr, min(starts + [m.nplastic]) - adr
 
 

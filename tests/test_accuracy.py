@@ -88,3 +88,42 @@ def test_pareto_and_budget_pick():
     assert accuracy.cheapest_within(rows, 0.05).label == "accurate"
     assert accuracy.cheapest_within(rows, 2.0).label == "fast"
     assert accuracy.cheapest_within(rows, 1e-3) is None
+
+
+def _quat(axis, angle):
+    axis = np.asarray(axis, dtype=np.float64) / np.linalg.norm(axis)
+    return np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * axis])
+
+
+def _mul(a, b):
+    w = a[0] * b[0] - a[1:] @ b[1:]
+    return np.concatenate([[w], a[0] * b[1:] + b[0] * a[1:] + np.cross(a[1:], b[1:])])
+
+
+@pytest.mark.parametrize("angle", [1e-13, 1e-11, 1e-10, 1e-8, 1e-6, 1e-3, 0.5, 3.0])
+def test_item_dzhanibekov_quat_angle_resolves_tiny_rotations(angle):
+    # The Dzhanibekov rows of ACCURACY.md read an exact 0 for RK4 at small timesteps:
+    # 2*acos(min(1, c)) cannot tell an angle below ~1e-8 rad from none, as
+    # cos(1e-8) rounds to 1.  atan2 of the vector part keeps it to full precision.
+    base = _quat([0.3, -0.4, 0.5], 1.1)
+    turned = _mul(base, _quat([1.0, 2.0, -0.5], angle))
+    got = accuracy.quat_angle(base, turned)
+    assert got > 0
+    assert got == pytest.approx(angle, rel=1e-3, abs=1e-17)
+    # the same rotation whatever the sign of either quaternion, and either way round
+    assert accuracy.quat_angle(-base, turned) == pytest.approx(got, rel=1e-12, abs=1e-18)
+    assert accuracy.quat_angle(turned, base) == pytest.approx(got, rel=1e-12, abs=1e-18)
+
+
+def test_item_dzhanibekov_quat_angle_agrees_with_mujoco():
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        a, b = rng.normal(size=4), rng.normal(size=4)
+        a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
+        difference = np.zeros(3)
+        accuracy.mujoco.mju_subQuat(difference, b, a)      # axis * angle, angle <= pi
+        assert accuracy.quat_angle(a, b) == pytest.approx(np.linalg.norm(difference), abs=1e-12)
+    assert accuracy.quat_angle([1, 0, 0, 0], [1, 0, 0, 0]) == 0.0
+    assert accuracy.quat_angle([1, 0, 0, 0], [0, 1, 0, 0]) == pytest.approx(math.pi)
+    # unnormalized quaternions are normalized first
+    assert accuracy.quat_angle([2, 0, 0, 0], _quat([0, 0, 1], 0.25) * 3) == pytest.approx(0.25)

@@ -17,6 +17,7 @@ import mjcffi
 from mjcffi import _namedinfo, named
 
 from .conftest import gymnasium_assets
+from .test_named_plastic import JOINTS_AND_TENDONS
 
 SCENE = pathlib.Path(__file__).parent / "scenes" / "every_category.xml"
 
@@ -83,7 +84,7 @@ SKIN_AND_PLASTIC = """
 """
 
 MODELS = [("every_category", SCENE), ("mimo", MIMO), ("dc_motors", DC_MOTORS),
-          ("skin_and_plastic", SKIN_AND_PLASTIC)]
+          ("skin_and_plastic", SKIN_AND_PLASTIC), ("plastic_spans", JOINTS_AND_TENDONS)]
 MODELS += [(path.stem, path) for path in gymnasium_assets()]
 
 
