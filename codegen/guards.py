@@ -7,6 +7,15 @@ that returns the zero value on a caught error.  Either way the message waits
 for mjcffi_take_error().  The machinery (the thread-local chain of guards, the
 log handler, the message) is hand-written in mjcffi/_helper.c.
 
+A function that writes an mjData (a non-const `mjData *` argument) holds it for
+the call (mjcffi_data_enter/leave in _helper.c): another thread's call on the
+same mjData is refused, and so is, inside a call on this thread, one of
+RESTARTS, which reset the arena that the running call is filling.
+
+A few calls are first checked by hand-written C (PRECHECKS): mjr_makeContext
+refuses to run without an OpenGL library, as an error inside it cannot be
+caught twice.
+
 Variadic functions (mju_error, mju_warning, mju_info) get a guard that takes
 the fixed arguments only and passes the last one, the message, through "%s":
 a message from Python is never a format string.
@@ -36,6 +45,22 @@ _H_HEAD = """\
    the message.  Read into the cffi cdef and included by the compiled module. */
 """
 
+# Calls that reset an mjData's arena or rerun the pipeline that fills it: never
+# nested inside another call on the same mjData (a callback's re-entry).
+RESTARTS = frozenset({
+    "mj_step", "mj_step1", "mj_step2", "mj_forward", "mj_inverse", "mj_forwardSkip",
+    "mj_inverseSkip", "mj_fwdPosition", "mj_invPosition", "mj_collision",
+    "mj_makeConstraint", "mj_island", "mj_fwdConstraint", "mj_Euler", "mj_RungeKutta",
+    "mj_implicit", "mj_resetData", "mj_resetDataDebug", "mj_resetDataKeyframe",
+    "mj_copyData", "mjv_copyData", "mj_setState", "mj_copyState", "mj_deleteData",
+    "mj_recompile", "mj_setConst", "mj_setLengthRange", "mjd_transitionFD", "mjd_inverseFD",
+    "mj_compareFwdInv", "mj_checkPos", "mj_checkVel", "mj_checkAcc", "mjb_getData",
+})
+
+# Calls checked before MuJoCo runs by a hand-written C function of _helper.c (0: go on),
+# with another called when MuJoCo raised: (enter, failed).
+PRECHECKS = {"mjr_makeContext": ("mjcffi_render_enter", "mjcffi_render_failed")}
+
 _ARRAY = re.compile(r"^(.*?)\s*((?:\[\d*\])+)$")
 
 
@@ -61,9 +86,18 @@ def _signature(func):
     return restype, args, variadic
 
 
+def _held_data(func, args):
+    """The name of the mjData argument `func` writes, or None."""
+    names = [name for name, decl in args if decl.replace(" ", "") == "mjData*"]
+    if len(names) > 1:
+        raise ValueError(f"{func.name}: more than one mjData to hold")
+    return names[0] if names else None
+
+
 def _guard(func):
     """(prototype, definition) of mjcffi_guard_<func.name>."""
     restype, args, variadic = _signature(func)
+    held = _held_data(func, args)
     void = restype == "void"
     params = ", ".join(_named(decl, name) for name, decl in args) or "void"
     head = _named("int" if void else restype, f"mjcffi_guard_{func.name}({params})")
@@ -71,23 +105,38 @@ def _guard(func):
     if variadic:
         call_args.insert(len(call_args) - 1, '"%s"')
     call = f"{func.name}({', '.join(call_args)})"
+    release = [f"  mjcffi_data_leave({held});"] if held else []
+    zero = ["  memset(&mjcffi_result, 0, sizeof mjcffi_result);"] if not void else []
+    failed = "1" if void else "mjcffi_result"
     lines = [head + " {",
              "  mjcffi_guard mjcffi_g;"]
     if not void:
         lines.append(f"  {_named(restype, 'mjcffi_result')};")
+    if held:
+        restarts = int(func.name in RESTARTS)
+        lines += [f'  if (mjcffi_data_enter({held}, {restarts}, "{func.name}")) {{',
+                  *["  " + line for line in zero],
+                  f"    return {failed};", "  }"]
+    precheck, on_failure = PRECHECKS.get(func.name, (None, None))
+    if precheck:
+        lines += [f'  if ({precheck}("{func.name}")) {{', *["  " + line for line in zero],
+                  f"    return {failed};", "  }"]
     lines += ["  mjcffi_guard_enter(&mjcffi_g);",
               "  if (setjmp(mjcffi_g.env)) {",
-              "    mjcffi_guard_leave(&mjcffi_g, 1);"]
+              "    mjcffi_guard_leave(&mjcffi_g, 1);",
+              *([f"    {on_failure}();"] if on_failure else []),
+              *["  " + line for line in release],
+              *["  " + line for line in zero],
+              f"    return {failed};", "  }"]
     if void:
-        lines += ["    return 1;", "  }",
-                  f"  {call};",
+        lines += [f"  {call};",
                   "  mjcffi_guard_leave(&mjcffi_g, 0);",
+                  *release,
                   "  return 0;", "}"]
     else:
-        lines += ["    memset(&mjcffi_result, 0, sizeof mjcffi_result);",
-                  "    return mjcffi_result;", "  }",
-                  f"  mjcffi_result = {call};",
+        lines += [f"  mjcffi_result = {call};",
                   "  mjcffi_guard_leave(&mjcffi_g, 0);",
+                  *release,
                   "  return mjcffi_result;", "}"]
     return head + ";", "\n".join(lines)
 

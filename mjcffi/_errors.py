@@ -7,6 +7,11 @@ an error (pass that to `check`); a guard of any other F returns a zero value,
 so call `raise_pending` after it.  `lib.mjcffi_step(m, d, nstep)` steps like a
 void guard.  The error and its message belong to the calling thread only.
 
+A call that writes an mjData holds it while it runs (mjcffi/_helper.c): the same
+mjData in a call on another thread is a ValueError, and a callback restarting
+the computation of the mjData it is called for (mj_step inside mjcb_control) a
+RecursionError, both raised before MuJoCo runs.
+
 After a FatalError out of a call that takes an mjData (mj_step, mj_forward,
 ...), that mjData is left mid-computation: MuJoCo did not release the stack
 frames the call had marked, so its stack is smaller by what they held, and its
@@ -47,11 +52,25 @@ def with_note(error, note):
     return error
 
 
+def _refusal(kind, text):
+    """The exception for a call the C helper refused before MuJoCo ran (its mjData held)."""
+    if kind == lib.MJCFFI_ERROR_REENTRY:
+        return with_note(RecursionError(text),
+                         "a callback may read d and call functions that do not restart "
+                         "its computation (mj_jac, mj_stackAllocNum, ...), but not step, "
+                         "forward or reset the mjData that MuJoCo is computing")
+    return with_note(ValueError(text), "mjcffi holds an mjData for each call that writes "
+                     "it; MuJoCo's functions keep no lock of their own")
+
+
 def raise_pending():
-    """Raise FatalError if the last guarded call on this thread caught an error."""
+    """Raise FatalError if the last guarded call on this thread caught an error
+    (RecursionError or ValueError if it refused to run: see _refusal)."""
     message = lib.mjcffi_take_error()
     if message != ffi.NULL:
-        raise FatalError(ffi.string(message).decode("utf-8", "replace"))
+        text = ffi.string(message).decode("utf-8", "replace")
+        kind = lib.mjcffi_error_kind()
+        raise FatalError(text) if kind == lib.MJCFFI_ERROR_FATAL else _refusal(kind, text)
 
 
 def check(status):

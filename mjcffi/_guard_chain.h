@@ -17,6 +17,18 @@ typedef struct mjcffi_guard_ {
 } mjcffi_guard;
 
 void mjcffi_guard_enter(mjcffi_guard* guard);
+
+/* Hold d for a call that writes it (d may be NULL): 0, or 1 with the error pending
+   (MJCFFI_ERROR_BUSY: another thread holds it; MJCFFI_ERROR_REENTRY: this thread
+   does, and `restarts`, a call that resets the arena, may not nest).  func names
+   the call in the message.  Each 0 is matched by one mjcffi_data_leave. */
+int mjcffi_data_enter(const mjData* d, int restarts, const char* func);
+void mjcffi_data_leave(const mjData* d);
+
+/* mjr_makeContext's guard: 0, or 1 with a FatalError pending when no OpenGL library is
+   loaded or an earlier call failed; mjcffi_render_failed records a failure. */
+int mjcffi_render_enter(const char* func);
+void mjcffi_render_failed(void);
 void mjcffi_guard_leave(mjcffi_guard* guard, int caught);
 
 #endif  /* MJCFFI_GUARD_CHAIN_H_ */

@@ -301,14 +301,20 @@ int mjcffi_guard_mj_copyBack(mjSpec *s, const mjModel *m) {
 int mjcffi_guard_mj_recompile(mjSpec *s, const mjVFS *vfs, mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  if (mjcffi_data_enter(d, 1, "mj_recompile")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_recompile(s, vfs, m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return mjcffi_result;
 }
 
@@ -408,85 +414,120 @@ int mjcffi_guard_mju_getXMLDependencies(const char *filename, mjStringVec *depen
 
 int mjcffi_guard_mj_step(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_step")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_step(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_step1(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_step1")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_step1(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_step2(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_step2")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_step2(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_forward(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_forward")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_forward(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_inverse(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_inverse")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_inverse(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_forwardSkip(const mjModel *m, mjData *d, int skipstage, int skipsensor) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_forwardSkip")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_forwardSkip(m, d, skipstage, skipsensor);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_inverseSkip(const mjModel *m, mjData *d, int skipstage, int skipsensor) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_inverseSkip")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_inverseSkip(m, d, skipstage, skipsensor);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -635,154 +676,219 @@ mjData *mjcffi_guard_mj_makeData(const mjModel *m) {
 mjData *mjcffi_guard_mj_copyData(mjData *dest, const mjModel *m, const mjData *src) {
   mjcffi_guard mjcffi_g;
   mjData *mjcffi_result;
+  if (mjcffi_data_enter(dest, 1, "mj_copyData")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(dest);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_copyData(dest, m, src);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(dest);
   return mjcffi_result;
 }
 
 mjData *mjcffi_guard_mjv_copyData(mjData *dest, const mjModel *m, const mjData *src) {
   mjcffi_guard mjcffi_g;
   mjData *mjcffi_result;
+  if (mjcffi_data_enter(dest, 1, "mjv_copyData")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(dest);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjv_copyData(dest, m, src);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(dest);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mj_resetCtrl(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_resetCtrl")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_resetCtrl(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_resetData(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_resetData")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_resetData(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_resetDataDebug(const mjModel *m, mjData *d, unsigned char debug_value) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_resetDataDebug")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_resetDataDebug(m, d, debug_value);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_resetDataKeyframe(const mjModel *m, mjData *d, int key) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_resetDataKeyframe")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_resetDataKeyframe(m, d, key);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_markStack(mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_markStack")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_markStack(d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_freeStack(mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_freeStack")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_freeStack(d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 void *mjcffi_guard_mj_stackAllocByte(mjData *d, size_t bytes, size_t alignment) {
   mjcffi_guard mjcffi_g;
   void *mjcffi_result;
+  if (mjcffi_data_enter(d, 0, "mj_stackAllocByte")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_stackAllocByte(d, bytes, alignment);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return mjcffi_result;
 }
 
 mjtNum *mjcffi_guard_mj_stackAllocNum(mjData *d, size_t size) {
   mjcffi_guard mjcffi_g;
   mjtNum *mjcffi_result;
+  if (mjcffi_data_enter(d, 0, "mj_stackAllocNum")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_stackAllocNum(d, size);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return mjcffi_result;
 }
 
 int *mjcffi_guard_mj_stackAllocInt(mjData *d, size_t size) {
   mjcffi_guard mjcffi_g;
   int *mjcffi_result;
+  if (mjcffi_data_enter(d, 0, "mj_stackAllocInt")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_stackAllocInt(d, size);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mj_deleteData(mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_deleteData")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_deleteData(d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -800,27 +906,38 @@ int mjcffi_guard_mj_resetCallbacks(void) {
 
 int mjcffi_guard_mj_setConst(mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_setConst")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_setConst(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_setLengthRange(mjModel *m, mjData *d, int index, const mjLROpt *opt, char *error, int error_sz) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  if (mjcffi_data_enter(d, 1, "mj_setLengthRange")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_setLengthRange(m, d, index, opt, error, error_sz);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return mjcffi_result;
 }
 
@@ -1004,445 +1121,630 @@ int mjcffi_guard_mj_printFormattedScene(const mjvScene *s, const char *filename,
 
 int mjcffi_guard_mj_fwdKinematics(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_fwdKinematics")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_fwdKinematics(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_fwdPosition(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_fwdPosition")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_fwdPosition(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_fwdVelocity(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_fwdVelocity")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_fwdVelocity(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_fwdActuation(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_fwdActuation")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_fwdActuation(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_fwdAcceleration(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_fwdAcceleration")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_fwdAcceleration(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_fwdConstraint(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_fwdConstraint")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_fwdConstraint(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_Euler(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_Euler")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_Euler(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_RungeKutta(const mjModel *m, mjData *d, int N) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_RungeKutta")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_RungeKutta(m, d, N);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_implicit(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_implicit")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_implicit(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_invPosition(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_invPosition")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_invPosition(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_invVelocity(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_invVelocity")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_invVelocity(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_invConstraint(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_invConstraint")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_invConstraint(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_compareFwdInv(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_compareFwdInv")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_compareFwdInv(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_sensorPos(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_sensorPos")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_sensorPos(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_sensorVel(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_sensorVel")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_sensorVel(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_sensorAcc(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_sensorAcc")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_sensorAcc(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_energyPos(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_energyPos")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_energyPos(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_energyVel(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_energyVel")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_energyVel(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_checkPos(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_checkPos")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_checkPos(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_checkVel(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_checkVel")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_checkVel(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_checkAcc(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_checkAcc")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_checkAcc(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_kinematics(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_kinematics")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_kinematics(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_comPos(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_comPos")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_comPos(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_camlight(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_camlight")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_camlight(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_flex(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_flex")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_flex(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_tendon(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_tendon")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_tendon(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_transmission(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_transmission")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_transmission(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_crb(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_crb")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_crb(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_makeM(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_makeM")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_makeM(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_factorM(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_factorM")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_factorM(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_solveM(const mjModel *m, mjData *d, mjtNum *x, const mjtNum *y, int n) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_solveM")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_solveM(m, d, x, y, n);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_solveM2(const mjModel *m, mjData *d, mjtNum *x, const mjtNum *y, const mjtNum *sqrtInvD, int n) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_solveM2")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_solveM2(m, d, x, y, sqrtInvD, n);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_comVel(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_comVel")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_comVel(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_passive(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_passive")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_passive(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_subtreeVel(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_subtreeVel")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_subtreeVel(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_rne(const mjModel *m, mjData *d, int flg_acc, mjtNum *result) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_rne")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_rne(m, d, flg_acc, result);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_rnePostConstraint(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_rnePostConstraint")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_rnePostConstraint(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -1462,73 +1764,103 @@ int mjcffi_guard_mj_maxContact(const mjModel *m, int g1, int g2, int has_margin)
 
 int mjcffi_guard_mj_collision(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_collision")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_collision(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_makeConstraint(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_makeConstraint")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_makeConstraint(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_island(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_island")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_island(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_projectConstraint(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_projectConstraint")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_projectConstraint(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_referenceConstraint(const mjModel *m, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_referenceConstraint")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_referenceConstraint(m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_constraintUpdate(const mjModel *m, mjData *d, const mjtNum *jar, mjtNum cost[1], int flg_coneHessian) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_constraintUpdate")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_constraintUpdate(m, d, jar, cost, flg_coneHessian);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -1572,25 +1904,35 @@ int mjcffi_guard_mj_extractState(const mjModel *m, const mjtNum *src, int srcsig
 
 int mjcffi_guard_mj_setState(const mjModel *m, mjData *d, const mjtNum *state, int sig) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mj_setState")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_setState(m, d, state, sig);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_copyState(const mjModel *m, const mjData *src, mjData *dst, int sig) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(dst, 1, "mj_copyState")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(dst);
     return 1;
   }
   mj_copyState(m, src, dst, sig);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(dst);
   return 0;
 }
 
@@ -1624,25 +1966,35 @@ const mjtNum *mjcffi_guard_mj_readSensor(const mjModel *m, const mjData *d, int 
 
 int mjcffi_guard_mj_initCtrlHistory(const mjModel *m, mjData *d, int id, const mjtNum *times, const mjtNum *values) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_initCtrlHistory")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_initCtrlHistory(m, d, id, times, values);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_initSensorHistory(const mjModel *m, mjData *d, int id, const mjtNum *times, const mjtNum *values, mjtNum phase) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_initSensorHistory")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_initSensorHistory(m, d, id, times, values, phase);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -1661,14 +2013,20 @@ int mjcffi_guard_mj_setKeyframe(mjModel *m, const mjData *d, int k) {
 int mjcffi_guard_mj_addContact(const mjModel *m, mjData *d, const mjContact *con) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  if (mjcffi_data_enter(d, 0, "mj_addContact")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_addContact(m, d, con);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return mjcffi_result;
 }
 
@@ -1776,13 +2134,18 @@ int mjcffi_guard_mj_jacBodyCom(const mjModel *m, const mjData *d, mjtNum *jacp, 
 
 int mjcffi_guard_mj_jacSubtreeCom(const mjModel *m, mjData *d, mjtNum *jacp, int body) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_jacSubtreeCom")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_jacSubtreeCom(m, d, jacp, body);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -1812,13 +2175,18 @@ int mjcffi_guard_mj_jacSite(const mjModel *m, const mjData *d, mjtNum *jacp, mjt
 
 int mjcffi_guard_mj_jacPointAxis(const mjModel *m, mjData *d, mjtNum *jacPoint, mjtNum *jacAxis, const mjtNum point[3], const mjtNum axis[3], int body) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_jacPointAxis")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_jacPointAxis(m, d, jacPoint, jacAxis, point, axis, body);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -1836,13 +2204,18 @@ int mjcffi_guard_mj_jacDot(const mjModel *m, const mjData *d, mjtNum *jacp, mjtN
 
 int mjcffi_guard_mj_angmomMat(const mjModel *m, mjData *d, mjtNum *mat, int body) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_angmomMat")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_angmomMat(m, d, mat, body);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -1926,25 +2299,35 @@ int mjcffi_guard_mj_mulM2(const mjModel *m, const mjData *d, mjtNum *res, const 
 
 int mjcffi_guard_mj_addM(const mjModel *m, mjData *d, mjtNum *dst, int *rownnz, int *rowadr, int *colind) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_addM")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_addM(m, d, dst, rownnz, rowadr, colind);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mj_applyFT(const mjModel *m, mjData *d, const mjtNum force[3], const mjtNum torque[3], const mjtNum point[3], int body, mjtNum *qfrc_target) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_applyFT")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_applyFT(m, d, force, torque, point, body, qfrc_target);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -1975,14 +2358,20 @@ int mjcffi_guard_mj_objectAcceleration(const mjModel *m, const mjData *d, int ob
 mjtNum mjcffi_guard_mj_geomDistance(const mjModel *m, mjData *d, int geom1, int geom2, mjtNum distmax, mjtNum fromto[6]) {
   mjcffi_guard mjcffi_g;
   mjtNum mjcffi_result;
+  if (mjcffi_data_enter(d, 0, "mj_geomDistance")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_geomDistance(m, d, geom1, geom2, distmax, fromto);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return mjcffi_result;
 }
 
@@ -2050,13 +2439,18 @@ int mjcffi_guard_mj_normalizeQuat(const mjModel *m, mjtNum *qpos) {
 
 int mjcffi_guard_mj_local2Global(mjData *d, mjtNum xpos[3], mjtNum xmat[9], const mjtNum pos[3], const mjtNum quat[4], int body, mjtByte sameframe) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_local2Global")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_local2Global(d, xpos, xmat, pos, quat, body, sameframe);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -2168,13 +2562,18 @@ mjtNum mjcffi_guard_mj_ray(const mjModel *m, const mjData *d, const mjtNum pnt[3
 
 int mjcffi_guard_mj_multiRay(const mjModel *m, mjData *d, const mjtNum pnt[3], const mjtNum *vec, const mjtByte *geomgroup, mjtBool flg_static, int bodyexclude, int *geomid, mjtNum *dist, mjtNum *normal, int nray, mjtNum cutoff) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_multiRay")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_multiRay(m, d, pnt, vec, geomgroup, flg_static, bodyexclude, geomid, dist, normal, nray, cutoff);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -2396,37 +2795,52 @@ int mjcffi_guard_mjv_moveModel(const mjModel *m, int action, mjtNum reldx, mjtNu
 
 int mjcffi_guard_mjv_initPerturb(const mjModel *m, mjData *d, const mjvScene *scn, mjvPerturb *pert) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mjv_initPerturb")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mjv_initPerturb(m, d, scn, pert);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mjv_applyPerturbPose(const mjModel *m, mjData *d, const mjvPerturb *pert, int flg_paused) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mjv_applyPerturbPose")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mjv_applyPerturbPose(m, d, pert, flg_paused);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mjv_applyPerturbForce(const mjModel *m, mjData *d, const mjvPerturb *pert) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mjv_applyPerturbForce")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mjv_applyPerturbForce(m, d, pert);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -2558,13 +2972,18 @@ int mjcffi_guard_mjv_freeScene(mjvScene *scn) {
 
 int mjcffi_guard_mjv_updateScene(const mjModel *m, mjData *d, const mjvOption *opt, const mjvPerturb *pert, mjvCamera *cam, int catmask, mjvScene *scn) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mjv_updateScene")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mjv_updateScene(m, d, opt, pert, cam, catmask, scn);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -2582,13 +3001,18 @@ int mjcffi_guard_mjv_copyModel(mjModel *dest, const mjModel *src) {
 
 int mjcffi_guard_mjv_addGeoms(const mjModel *m, mjData *d, const mjvOption *opt, const mjvPerturb *pert, int catmask, mjvScene *scn) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mjv_addGeoms")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mjv_addGeoms(m, d, opt, pert, catmask, scn);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -2690,9 +3114,13 @@ int mjcffi_guard_mjr_getRendererInfo(mjrRendererInfo *info) {
 
 int mjcffi_guard_mjr_makeContext(const mjModel *m, mjrContext *con, int fontscale) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_render_enter("mjr_makeContext")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_render_failed();
     return 1;
   }
   mjr_makeContext(m, con, fontscale);
@@ -3224,13 +3652,18 @@ int mjcffi_guard_mju_free(void *ptr) {
 
 int mjcffi_guard_mj_warning(mjData *d, int warning, int info) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mj_warning")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mj_warning(d, warning, info);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -4694,25 +5127,35 @@ int mjcffi_guard_mjc_gradient(const mjModel *m, const mjData *d, const mjSDF *s,
 
 int mjcffi_guard_mjd_transitionFD(const mjModel *m, mjData *d, mjtNum eps, mjtBool flg_centered, mjtNum *A, mjtNum *B, mjtNum *C, mjtNum *D) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mjd_transitionFD")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mjd_transitionFD(m, d, eps, flg_centered, A, B, C, D);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
 int mjcffi_guard_mjd_inverseFD(const mjModel *m, mjData *d, mjtNum eps, mjtBool flg_actuation, mjtNum *DfDq, mjtNum *DfDv, mjtNum *DfDa, mjtNum *DsDq, mjtNum *DsDv, mjtNum *DsDa, mjtNum *DmDq) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mjd_inverseFD")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mjd_inverseFD(m, d, eps, flg_actuation, DfDq, DfDv, DfDa, DsDq, DsDv, DsDa, DmDq);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -5088,13 +5531,18 @@ mjSpec *mjcffi_guard_mju_decodeResource(mjResource *resource, const char *conten
 
 int mjcffi_guard_mju_threadpool(mjData *d, int nthread) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 0, "mju_threadpool")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mju_threadpool(d, nthread);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 
@@ -7352,13 +7800,18 @@ int mjcffi_guard_mjb_getModel(mjBatch *b, int sim, mjModel *m) {
 
 int mjcffi_guard_mjb_getData(mjBatch *b, int sim, mjData *d) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_data_enter(d, 1, "mjb_getData")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   mjb_getData(b, sim, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_data_leave(d);
   return 0;
 }
 

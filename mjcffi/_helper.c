@@ -1,9 +1,13 @@
 // mjcffi's C helper: code that must run natively, beside the cffi wrappers.
 // Compiled into mjcffi._mjcffi by mjcffi/_build.py; declared in _helper.h.
 
-#define _POSIX_C_SOURCE 200809L   // clock_gettime, also under a strict -std=c11
+#define _GNU_SOURCE   // clock_gettime, and dl_iterate_phdr for the OpenGL check, under -std=c11
 
 #include <limits.h>
+#ifdef __linux__
+#include <link.h>
+#endif
+#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -49,6 +53,7 @@ mjfLogHandler _mjPRIVATE_getGlobalLogHandler(void);
 typedef struct {
   mjcffi_guard* innermost;      // the guard an error jumps to, or NULL
   int pending;                  // the last guarded call caught an error
+  int kind;                     // MJCFFI_ERROR_*: what the pending error is
   char message[2048];           // subject is at most 1024; room for func and body
 } mjcffi_errors;
 
@@ -77,6 +82,7 @@ static void mjcffi_log_handler(const mjLogMessage* msg) {
            func, *func ? ": " : "", msg->subject,
            msg->body ? "\n" : "", msg->body ? msg->body : "");
   errors.pending = 1;
+  errors.kind = MJCFFI_ERROR_FATAL;
   longjmp(guard->env, 1);
 }
 
@@ -95,6 +101,10 @@ void mjcffi_guard_leave(mjcffi_guard* guard, int caught) {
   errors.pending = caught;
 }
 
+int mjcffi_error_kind(void) {
+  return errors.kind;
+}
+
 const char* mjcffi_take_error(void) {
   if (!errors.pending) {
     return NULL;
@@ -106,16 +116,160 @@ const char* mjcffi_take_error(void) {
 // One guard around the whole loop: the per-step cost is mj_step's alone.
 int mjcffi_step(const mjModel* m, mjData* d, int nstep) {
   mjcffi_guard guard;
+  if (mjcffi_data_enter(d, 1, "mj_step")) {
+    return 1;
+  }
   mjcffi_guard_enter(&guard);
   if (setjmp(guard.env)) {
     mjcffi_guard_leave(&guard, 1);
+    mjcffi_data_leave(d);
     return 1;
   }
   for (int i = 0; i < nstep; i++) {
     mj_step(m, d);
   }
   mjcffi_guard_leave(&guard, 0);
+  mjcffi_data_leave(d);
   return 0;
+}
+
+
+//---------------------------------- mjr_makeContext without OpenGL -------------------------------
+//
+// mjr_makeContext raises its "no OpenGL platform library" mju_error inside a C++
+// function-local static's initialization.  Our longjmp leaves that static's guard taken,
+// and the next mjr_makeContext in the process aborts in the C++ runtime.  So the guard
+// first looks for a loaded OpenGL library itself, as MuJoCo does, and after an error
+// from that search inside mjr_makeContext refuses every later call with a FatalError.
+
+static int render_failed;       // an mjr_makeContext call raised: the renderer is spent
+
+#ifdef __linux__
+static int find_gl_library(struct dl_phdr_info* info, size_t size, void* found) {
+  (void)size;
+  static const char* names[] = {"libGL.", "libGLX", "libEGL.", "libOSMesa.", "libOpenGL."};
+  const char* slash = info->dlpi_name ? strrchr(info->dlpi_name, '/') : NULL;
+  const char* base = slash ? slash + 1 : info->dlpi_name;
+  for (size_t i = 0; base && i < sizeof(names) / sizeof(names[0]); i++) {
+    if (strncmp(base, names[i], strlen(names[i])) == 0) {
+      *(int*)found = 1;
+      return 1;
+    }
+  }
+  return 0;
+}
+#endif
+
+int mjcffi_render_enter(const char* func) {
+  const char* why = NULL;
+  if (render_failed) {
+    why = "an earlier mjr_makeContext failed in this process, and MuJoCo's renderer "
+          "cannot be initialized again after that (a C++ static it left half-made); "
+          "make the OpenGL context first, in a new process";
+  }
+#ifdef __linux__
+  int found = 0;
+  dl_iterate_phdr(find_gl_library, &found);
+  if (!why && !found) {
+    why = "an OpenGL platform library has not been loaded into this process, this most "
+          "likely means that a valid OpenGL context has not been created before "
+          "mjr_makeContext was called";
+  }
+#endif
+  if (why) {                    // MuJoCo's own text has no function name: nor has ours
+    (void)func;
+    snprintf(errors.message, sizeof(errors.message), "%s", why);
+    errors.pending = 1;
+    errors.kind = MJCFFI_ERROR_FATAL;
+    return 1;
+  }
+  return 0;
+}
+
+void mjcffi_render_failed(void) {
+  // only the search for the OpenGL library runs inside the static; other errors
+  // (a framebuffer too large, ...) leave the renderer usable
+  if (strstr(errors.message, "OpenGL platform library")) {
+    render_failed = 1;
+  }
+}
+
+
+//---------------------------------- one call per mjData -------------------------------------------
+//
+// A call that writes an mjData (the guards of functions taking a non-const mjData*) holds
+// it for its duration.  Another thread's call on it is refused: MuJoCo's functions keep
+// no lock, and two steps of one mjData overwrite each other's arena and stack.  The
+// holding thread may nest calls (a callback may use the stack, compute a Jacobian,
+// rerun kinematics), except those that restart the pipeline and reset the arena
+// (mj_step, mj_forward, mj_resetData, ...): inside the call that is computing d, they
+// would pull the contacts and constraint rows from under it.
+
+typedef struct {
+  const mjData* d;
+  pthread_t owner;
+  int depth;                    // calls on d on the owner's thread, nested
+} mjcffi_claim;
+
+#define MJCFFI_MAX_CLAIMS 1024  // mjData held at once, all threads together
+static mjcffi_claim claims[MJCFFI_MAX_CLAIMS];
+static int nclaims;
+static pthread_mutex_t claims_lock = PTHREAD_MUTEX_INITIALIZER;
+
+static int mjcffi_refuse_call(int kind, const char* func, const char* why) {
+  snprintf(errors.message, sizeof(errors.message), "%s: %s", func, why);
+  errors.pending = 1;
+  errors.kind = kind;
+  return 1;
+}
+
+int mjcffi_data_enter(const mjData* d, int restarts, const char* func) {
+  if (!d) {
+    return 0;                   // MuJoCo's own NULL check speaks for itself
+  }
+  pthread_t self = pthread_self();
+  const char* why = NULL;
+  int kind = MJCFFI_ERROR_BUSY;
+  pthread_mutex_lock(&claims_lock);
+  int i = 0;
+  while (i < nclaims && claims[i].d != d) {
+    i++;
+  }
+  if (i == nclaims) {
+    if (nclaims < MJCFFI_MAX_CLAIMS) {
+      claims[nclaims++] = (mjcffi_claim){d, self, 1};
+    } else {
+      why = "more mjData are in MuJoCo calls at once than mjcffi can track (1024)";
+    }
+  } else if (!pthread_equal(claims[i].owner, self)) {
+    why = "this mjData is in a MuJoCo call on another thread; an mjData takes one "
+          "call at a time (give each thread an MjData of its own)";
+  } else if (restarts) {
+    kind = MJCFFI_ERROR_REENTRY;
+    why = "this mjData is in a MuJoCo call on this thread already (a callback "
+          "re-entered MuJoCo with the data being computed); this call would reset "
+          "the arrays that call is using";
+  } else {
+    claims[i].depth++;
+  }
+  pthread_mutex_unlock(&claims_lock);
+  return why ? mjcffi_refuse_call(kind, func, why) : 0;
+}
+
+void mjcffi_data_leave(const mjData* d) {
+  if (!d) {
+    return;
+  }
+  pthread_mutex_lock(&claims_lock);
+  for (int i = 0; i < nclaims; i++) {
+    if (claims[i].d == d) {
+      if (--claims[i].depth == 0) {
+        claims[i] = claims[--nclaims];
+      }
+      break;
+    }
+  }
+  pthread_mutex_unlock(&claims_lock);
 }
 
 

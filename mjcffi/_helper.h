@@ -11,6 +11,14 @@ int mjcffi_header_version(void);
    the next error caught on this thread. */
 const char* mjcffi_take_error(void);
 
+/* What the last error caught on this thread was: MuJoCo's mju_error (0), a call
+   refused because another thread's call holds its mjData (1), or because it would
+   restart the pipeline of an mjData that a call on this thread is computing (2). */
+#define MJCFFI_ERROR_FATAL 0
+#define MJCFFI_ERROR_BUSY 1
+#define MJCFFI_ERROR_REENTRY 2
+int mjcffi_error_kind(void);
+
 /* mj_step(m, d) nstep times under one guard (cffi releases the GIL around
    it): 0 when all steps ran, 1 when an mju_error was caught.  After 1, d is
    left mid-step; see mjcffi/_errors.py for how to make it usable again. */

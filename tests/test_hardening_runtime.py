@@ -57,6 +57,15 @@ FREE_AND_FILTER = """
 </mujoco>
 """
 
+BALL_ON_PLANE = """
+<mujoco>
+  <worldbody>
+    <geom type="plane" size="1 1 .1"/>
+    <body><freejoint/><geom size=".1"/></body>
+  </worldbody>
+</mujoco>
+"""
+
 
 @pytest.fixture(autouse=True)
 def clean_callbacks():
@@ -305,8 +314,8 @@ def test_item5_reentrant_step_raises_recursion_error_at_any_depth():
         for depth in range(12):
             try:
                 call_from(depth)
-            except RecursionError as exc:
-                assert "recursion" in str(exc)
+            except RecursionError as exc:   # at the first re-entry, not the recursion limit
+                assert "mj_step: this mjData is in a MuJoCo call on this thread" in str(exc)
             else:
                 raise SystemExit(f"no exception from depth {depth}")
             assert not callbacks._pending and callbacks._local.lost is None, depth
@@ -320,20 +329,73 @@ def test_item5_reentrant_step_raises_recursion_error_at_any_depth():
 
 
 def test_item5_bounded_reentry_works():
+    """Re-entry with other mjData works, 20 deep; with the same one, calls that do not
+    restart its computation work too."""
     m = mjcffi.MjModel.from_xml_string(PENDULUM)
-    d, inner = mjcffi.MjData(m), mjcffi.MjData(m)
-    depth = []
+    chain = [mjcffi.MjData(m) for _ in range(21)]
+    index = {data._address: k for k, data in enumerate(chain)}
+    depth, jacs = [], []
 
     def control(model, data):
-        if data is inner:
-            return
-        depth.append(len(depth))
-        if len(depth) < 20:                 # a callback stepping MuJoCo, 20 deep
-            mjcffi.mj_step(model, data)
-        mjcffi.mj_forward(model, inner)     # and another data, at every level
+        k = index[data._address]
+        depth.append(k)
+        mjcffi.mj_kinematics(model, data)          # the same data: no restart, allowed
+        jac = np.zeros((3, model.nv))
+        mjcffi.mj_jacBody(model, data, None, jac, 1)    # rotational: the hinge axis
+        jacs.append(jac)
+        if k < 20:                                 # a callback stepping another data
+            mjcffi.mj_step(model, chain[k + 1])
     mjcffi.set_mjcb_control(control)
-    mjcffi.mj_step(m, d)
-    assert len(depth) == 20 and d.time == pytest.approx(20 * m.opt.timestep)
+    try:
+        mjcffi.mj_step(m, chain[0])
+    finally:
+        mjcffi.set_mjcb_control(None)
+    assert depth == list(range(21))
+    assert all(data.time == pytest.approx(m.opt.timestep) for data in chain)
+    assert np.abs(jacs[0]).sum() > 0
+
+
+def test_item5_contactfilter_stepping_its_data_raises_recursion_error():
+    m = mjcffi.MjModel.from_xml_string(BALL_ON_PLANE)
+    d = mjcffi.MjData(m)
+    d.qpos[2] = 0.05                               # touching: the filter runs
+
+    def contactfilter(model, data, geom1, geom2):
+        mjcffi.mj_step(model, data)                # would reset the contacts being made
+        return 0
+    mjcffi.set_mjcb_contactfilter(contactfilter)
+    try:
+        with pytest.raises(RecursionError, match="mj_step: this mjData is in a MuJoCo call"):
+            mjcffi.mj_step(m, d)
+    finally:
+        mjcffi.set_mjcb_contactfilter(None)
+    mjcffi.mj_resetData(m, d)
+    mjcffi.mj_step(m, d, 10)
+    assert d.time == pytest.approx(10 * m.opt.timestep)
+
+
+def test_item5_one_data_in_two_threads_raises_value_error():
+    m = mjcffi.MjModel.from_xml_string(BALL_ON_PLANE)
+    d = mjcffi.MjData(m)
+    errors, barrier = [], threading.Barrier(4)
+
+    def run():
+        barrier.wait()
+        try:
+            for _ in range(3000):
+                mjcffi.mj_step(m, d, 3)
+                mjcffi.mj_forward(m, d)
+        except ValueError as exc:
+            errors.append(exc)
+    threads = [threading.Thread(target=run) for _ in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert errors, "four threads stepping one data never met"
+    assert all("in a MuJoCo call on another thread" in str(e) for e in errors)
+    assert np.isfinite(d.qpos).all()
+    mjcffi.mj_step(m, d)                           # free again once the others stopped
 
 
 # --------------------------------------------- item 6: one MjData, one thread
@@ -592,5 +654,24 @@ def test_item_imports_callbacks_load_the_wrapper_classes_without_importing_them(
         assert callbacks._CLASSES == {"mjModel": model.MjModel, "mjData": data.MjData}
         print("ok")
     """ % PENDULUM
+    returncode, output = run_python(code)
+    assert returncode == 0 and output.strip().endswith("ok"), output
+
+
+# ------------------------------- mjr_makeContext without OpenGL, more than once
+
+def test_mjr_context_without_opengl_raises_every_time():
+    code = """
+        import mjcffi
+        m = mjcffi.MjModel.from_xml_string("<mujoco/>")
+        for attempt in range(3):        # the second used to abort in the C++ runtime
+            try:
+                mjcffi.MjrContext(m, 100)
+            except mjcffi.FatalError as exc:
+                assert "OpenGL platform library has not been loaded" in str(exc), exc
+            else:
+                raise SystemExit("no FatalError")
+        print("ok")
+    """
     returncode, output = run_python(code)
     assert returncode == 0 and output.strip().endswith("ok"), output
