@@ -342,6 +342,22 @@ BOUNDS = {
 
 _ID_NAME = re.compile(r"^([a-z]+?)(?:_?id|exclude|[0-9])?$")
 
+# Arguments declared as a C enum (mjs_findElement's `mjtObj type`) must be one of
+# its members (derive_enums): MuJoCo follows some unchecked (mjs_findElement with
+# type 10**9 segfaults).  Those whose header gives other values a meaning are left
+# out here: (function, argument) -> why.  None does in MuJoCo 4.0.
+ENUM_EXCEPTIONS: dict = {}
+
+# Functions that write a model's flexes and skins into the buffers of their
+# mjvScene, or read them (MuJoCo does neither check): the scene must have been made
+# for a model of that flex and skin layout (mjcffi/structs/_checks.py, scene), or
+# MuJoCo writes past its buffers.  Function -> what it does with them.
+SCENES = {
+    "mjv_updateScene": "writes flex vertices and faces, and skin vertices and normals",
+    "mjv_updateSkin": "writes skin vertices and normals",
+    "mjv_select": "reads skin vertices",
+}
+
 
 def _id_object(func, arg, doc):
     """The object type of int argument `arg`, if it is an object id, else None."""
@@ -355,6 +371,24 @@ def _id_object(func, arg, doc):
     if word not in OBJECTS or (word != match.group(1) and arg == match.group(1)):
         return None                         # `g` alone is not an id
     return word
+
+
+def derive_enums(decls, skip=()):
+    """{function: {argument: enum}}: the scalar arguments declared as a C enum (typedef of
+    an enum with members), but for ENUM_EXCEPTIONS and the functions in `skip`."""
+    found = {}
+    for name, func in decls.functions.items():
+        if name in skip:
+            continue
+        for a in func.args:
+            t = a.type
+            if t.pointer or t.dims or (name, a.name) in ENUM_EXCEPTIONS:
+                continue
+            enum = decls.enums.get(t.base)
+            if enum is not None and enum.members and \
+                    decls.typedefs.get(t.base, "").startswith("enum"):
+                found.setdefault(name, {})[a.name] = t.base
+    return found
 
 
 def derive_ids(decls, notes, skip=()):
@@ -606,6 +640,8 @@ raw C function.
 from . import _marshal as _m
 from . import structs as _structs
 from ._library import lib as _lib
+from .structs import _checks as _c
+from .structs import _handles as _h
 from ._arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private helpers)
 '''
 
@@ -649,7 +685,20 @@ def _classify(arg, described, typedefs):
         return "array"
     if arg.base in described:
         return "struct"
+    if arg.level == 1 and _is_handle(arg.base, typedefs):
+        return "handle"
     return "opaque"
+
+
+def _is_handle(base, typedefs):
+    """A type mjspec.h declares as `void` (mjString, mjDoubleVec, ...): a typed handle
+    of mjcffi/structs/_handles.py."""
+    return typedefs.get(base, "").strip() == "void"
+
+
+def _handle_class(base):
+    """'mjString' -> 'MjStringHandle', its class in mjcffi/structs/_handles.py."""
+    return "Mj" + base[2:] + "Handle"
 
 
 def _args(func, note, described, typedefs):
@@ -777,6 +826,8 @@ def _annotation(a, typedefs):
         text = f"numpy.typing.NDArray[numpy.{_NUMPY[a.base]}]"
     elif a.kind in ("buffer", "chars"):
         text = "bytes" if a.const else "bytearray"
+    elif a.kind == "handle":
+        text = f"mjcffi.structs._handles.{_handle_class(a.base)}"
     else:
         text = "Any"
     return text + (" | None" if a.nullable else "")
@@ -810,7 +861,7 @@ def _signature(params, annotations=None):
 class _Function:
     """Writes one generated function."""
 
-    def __init__(self, func, note, described, typedefs, constants, ids=None):
+    def __init__(self, func, note, described, typedefs, constants, ids=None, enums=None):
         self.func = func
         self.name = func.name
         self.doc = note.doc if note else ""
@@ -828,6 +879,7 @@ class _Function:
             if unknown:
                 raise ValueError(f"{name}[{self.name}] names unknown arguments {sorted(unknown)}")
         self.ids = ids.get(self.name, {}) if ids is not None else {}
+        self.enums = enums.get(self.name, {}) if enums is not None else {}
         self.lines = []
         self.notes = []
 
@@ -898,6 +950,8 @@ class _Function:
             return "str"
         if ret.base in self.described:
             return f"mujoco._structs.{class_name(ret.base)}"
+        if ret.pointer == 1 and _is_handle(ret.base, self.typedefs):
+            return f"mjcffi.structs._handles.{_handle_class(ret.base)}"
         return "Any"
 
     # ------------------------------------------------------------ body
@@ -917,12 +971,26 @@ class _Function:
                 raise ValueError(f"{self.name}: argument {local!r} clashes with a local name")
 
         self._structs()
+        if self.name in SCENES:
+            self._scene_check()
         for a in self.args:
             if a.kind == "text":
                 conv = "opt_text" if a.nullable else "text"
                 self.emit(f'c_{a.py} = _m.{conv}({a.py}, "{a.py}")')
+            elif a.kind == "handle":
+                nullable = ", True" if a.nullable else ""
+                self.emit(f'c_{a.py} = _h.argument({a.py}, "{a.base}", "{a.py}"{nullable})')
+                self.notes.append(f"{a.py}: {'an' if a.base.startswith('mj') else 'a'} "
+                                  f"{a.base} handle{' or None' if a.nullable else ''} (a field "
+                                  f"of a spec element, or a function's result), never a "
+                                  f"raw pointer.")
             elif a.kind == "opaque" or (a.kind == "buffer" and a.name not in self.shapes):
                 self.emit(f'c_{a.py} = _m.opaque({a.py}, "{a.py}", {a.nullable})')
+        for argname, enum in self.enums.items():
+            py = next(a.py for a in self.args if a.name == argname)
+            self.emit(f'if {py}.__class__ is not int or {py} not in _ENUMS["{enum}"]:')
+            self.emit(f'    {py} = _c.enum_value({py}, _ENUMS["{enum}"], "{py}", "{enum}")')
+            self.notes.append(f"{py} must be a value of {enum}.")
         for var in KEEP.get(self.name, ()):
             message = _message(MESSAGES.get(self.name, {}).get(var))
             self.emit(f'{var} = _m.count({var}, "{var}"{message})')
@@ -947,6 +1015,13 @@ class _Function:
             self.emit("error, error_sz = _m.error_buffer()")
         self._call(errors, omit)
         return params
+
+    def _scene_check(self):
+        """The scene must be made for a model of the call's flex and skin layout."""
+        scene = next(a for a in self.args if a.kind == "struct" and a.base == "mjvScene")
+        self.emit(f'_c.scene({self._model_expr()}, {scene.py}, c_{scene.py}, "{scene.py}")')
+        self.notes.append(f"{scene.py} must be made for a model with the flexes and skins "
+                          f"of this one (MjvScene(m, maxgeom) or mjv_makeScene).")
 
     def _model_expr(self):
         """The C mjModel of the call: its mjModel argument, or the model of its mjData."""
@@ -1155,7 +1230,10 @@ class _Function:
                 return f"_m.own({cls}, ret, _lib.{OWNED[self.name]})"
             owner = next((a.py for a in self.args if a.kind == "struct"), "None")
             return f"_m.wrap({cls}, ret, {owner})"
-        return "None if ret == _m.NULL else ret"     # raw handle or void *
+        if ret.pointer == 1 and _is_handle(ret.base, self.typedefs):
+            owner = next((a.py for a in self.args if a.kind == "struct"), "None")
+            return f'_h.result(ret, "{ret.base}", {owner})'
+        return "None if ret == _m.NULL else ret"     # void *
 
 
 def _message(message):
@@ -1200,7 +1278,7 @@ def generate(decls, notes, described, header_texts):
     constants = _defines(header_texts, decls)
     for table in (SHAPES, KEEP, BOUNDS, CHECKS, ERRORS, RETURNS, OWNED, RENAMES, OMIT,
                   NULLABLE, NOT_NULLABLE, OVERRIDES, UNSUPPORTED, MESSAGES, SIZED, BIND,
-                  {f for f, _ in ID_EXCEPTIONS}):
+                  SCENES, {f for f, _ in ID_EXCEPTIONS}, {f for f, _ in ENUM_EXCEPTIONS}):
         unknown = set(table) - set(decls.functions)
         if unknown:
             raise ValueError(f"special-case table names unknown functions {sorted(unknown)}")
@@ -1215,6 +1293,7 @@ def generate(decls, notes, described, header_texts):
                              f"marked Nullable in the header")
     ids = derive_ids(decls, notes, set(OVERRIDES) | set(UNSUPPORTED))
     IDS._table = ids
+    enums = derive_enums(decls, set(OVERRIDES) | set(UNSUPPORTED))
     blocks = []
     for name, func in decls.functions.items():
         note = notes.functions.get(name)
@@ -1224,7 +1303,7 @@ def generate(decls, notes, described, header_texts):
             blocks.append(_unsupported(func, note, UNSUPPORTED[name], described,
                                        decls.typedefs))
             continue
-        writer = _Function(func, note, described, decls.typedefs, constants, ids)
+        writer = _Function(func, note, described, decls.typedefs, constants, ids, enums)
         reason = writer.unsupported_reason()
         if reason:
             raise ValueError(f"{name}: {reason}; add it to SHAPES, OVERRIDES or UNSUPPORTED")
@@ -1233,5 +1312,18 @@ def generate(decls, notes, described, header_texts):
         blocks.append("\n".join([header, _docstring(writer.signature_line(params),
                                                     writer.doc, writer.notes)]
                                 + writer.lines))
-    text = outputs.HEADER_PY + _HEAD + "\n\n" + "\n\n\n".join(blocks) + "\n"
+    text = outputs.HEADER_PY + _HEAD + _enum_table(decls, enums) + "\n\n" + \
+        "\n\n\n".join(blocks) + "\n"
     return {"mjcffi/_functions.py": text}
+
+
+def _enum_table(decls, enums):
+    """`_ENUMS`: the members of each enum an argument is declared as, for its check."""
+    used = sorted({enum for table in enums.values() for enum in table.values()})
+    lines = ["", "# the values of the C enums that arguments are declared as (derive_enums)",
+             "_ENUMS = {"]
+    for enum in used:
+        values = sorted({value for _, value in decls.enums[enum].members})
+        lines.append(_wrapped(f'    "{enum}": frozenset((', [str(v) for v in values], ")),",
+                              "    "))
+    return "\n".join(lines + ["}", ""])

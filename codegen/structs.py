@@ -52,16 +52,16 @@ _EXTENTS = {
 
 # Scalars of mjData that may be written (the official bindings let every one be).
 # The sizes and addresses stay read-only: a wrong ncon or parena would make
-# views and MuJoCo itself reach outside the allocated memory.  The stack
-# pointers are bounded by the arena (see _BOUNDS), so that a test can provoke a
-# stack overflow.
-_DATA_WRITABLE = {"time", "pstack", "pbase"}
+# views and MuJoCo itself reach outside the allocated memory.  pstack, an offset
+# into the arena, is bounded by it (see _BOUNDS), so that a test can provoke a
+# stack overflow; pbase is an address (of the last mj_markStack's record, 0 when
+# none), which no value written from Python can make valid: read-only.
+_DATA_WRITABLE = {"time", "pstack"}
 _DATA_WRITABLE_PREFIXES = ("maxuse_", "flg_")
 
 # Bounds on scalars that nothing in the headers ties to their limit: the value
-# must stay within 0..<field of the same struct>.  The stack pointers are offsets
-# into the arena.
-_BOUNDS = {"mjData": {"pstack": "narena", "pbase": "narena"}}
+# must stay within 0..<field of the same struct>.
+_BOUNDS = {"mjData": {"pstack": "narena"}}
 
 # Counts and offsets whose fixed array the headers name neither by a "(n<X>)"
 # comment nor by the count's name (n<X> for <X> or <X>s): (struct, field) -> the
@@ -105,6 +105,15 @@ _INITIALIZERS = {
 # mjv_makeScene(NULL, scn, 0), whose defaults (scale 1, flags) the official has.
 _MAKE_WITHOUT_ARGUMENTS = {"mjvScene"}
 
+# Made for a model whose sizes its buffers take: the constructor records the
+# model with this function of mjcffi/structs/_checks.py, which the functions that
+# write the model into it check (codegen/functions.py, SCENES).
+_MADE_FOR = {"mjvScene": "made_for"}
+
+# Pointer fields to another struct of the same spec (MjsBody.element,
+# mjsDefault.joint): a wrapper that keeps the spec alive, not a raw pointer.
+_SPEC_STRUCT = re.compile(r"^(mjSpec|mjs[A-Z]\w*)$")
+
 # Structs whose memory MuJoCo allocates and frees itself: no Python constructor here
 # (mjcffi.MjModel and mjcffi.MjData add theirs).  Spec elements live inside an
 # mjSpec; a zero-filled mjCache, mjResource or mjSDF has NULL internals that
@@ -116,6 +125,12 @@ def class_name(cname):
     """'mjvScene' -> 'MjvScene'; 'mjVisual.global' -> 'MjVisualGlobal'."""
     parts = cname.rstrip("_").split(".")
     return "".join(p[0].upper() + p[1:] for p in parts)
+
+
+def handle_kinds(decls):
+    """The types the headers declare as `typedef void` (mjString, mjDoubleVec, ...):
+    handles whose kind cffi cannot see, typed by mjcffi/structs/_handles.py."""
+    return {name for name, target in decls.typedefs.items() if target.strip() == "void"}
 
 
 def attr_name(field):
@@ -145,6 +160,7 @@ class _Context:
         # the comment on a struct's opening line, e.g. "physics options"
         self.comment = {name: notes.fields.get((s.tag, ""), "")
                         for name, s in decls.structs.items()}
+        self.handles = handle_kinds(decls)
         self._sizing = None
         self.bounds = {}           # struct -> its bounds, see _bounds
 
@@ -284,6 +300,12 @@ def _field_line(ctx, struct, f, refs):
     extents = _extents(struct, f)
     if _is_cstring(f):
         return f"{attr}: str = cstring({f.name!r}, {doc})"
+    if f.kind == "pointer" and not extents and f.ctype.count("*") == 1:
+        if f.elem in ctx.handles:
+            return f"{attr} = handle_field({f.name!r}, {f.elem!r}, {doc})"
+        if ctx.is_struct(f.elem) and _SPEC_STRUCT.match(struct) and _SPEC_STRUCT.match(f.elem):
+            refs.add(f.elem)
+            return f"{attr} = struct_ref({f.name!r}, lambda: {class_name(f.elem)}, {doc})"
     if f.kind == "pointer" and extents:
         if f.elem == "char" and f.name in _STRING_BLOBS:
             return (f"{attr}: bytes = chars({f.name!r}, "
@@ -511,6 +533,10 @@ def _make_constructor(ctx, struct, default, make, made):
     if free is not None:
         lines.append(f"{indent}root = ffi.gc(root, lib.{free.name})")
     lines.append("        self._init_root(root)")
+    if struct in _MADE_FOR:
+        model = next(_param(a) for a in extra if a.type.base == "mjModel")
+        lines.append(f"        {_MADE_FOR[struct]}(self, ffi.NULL if {model} is None "
+                     f"else {model}._ptr)")
     lines.append("")
     return lines
 
@@ -666,7 +692,13 @@ def _imports(body):
     if len(line) > 99:
         wrapped = textwrap.wrap(", ".join(views), 76)
         line = "from .._views import (" + "\n                      ".join(wrapped) + ")"
-    return lines + [line]
+    lines.append(line)
+    for module, names in (("_checks", sorted(set(_MADE_FOR.values()))),
+                          ("_handles", ("handle_field", "struct_ref"))):
+        used = [n for n in names if re.search(rf"\b{n}\(", text)]
+        if used:
+            lines.append(f"from .{module} import {', '.join(used)}")
+    return lines
 
 
 def _check_acyclic(deps):

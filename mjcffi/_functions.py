@@ -11,7 +11,17 @@ raw C function.
 from . import _marshal as _m
 from . import structs as _structs
 from ._library import lib as _lib
+from .structs import _checks as _c
+from .structs import _handles as _h
 from ._arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private helpers)
+
+# the values of the C enums that arguments are declared as (derive_enums)
+_ENUMS = {
+    "mjtMeshBuiltin": frozenset((0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13)),
+    "mjtObj": frozenset((
+        0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24,
+        25, 26, 100, 101, 102)),
+}
 
 
 def mj_addFileVFS(vfs, directory, filename):
@@ -2553,6 +2563,7 @@ def mjv_select(m, d, vopt, aspectratio, relx, rely, scn, selpnt, geomid, flexid,
 
 Select geom, flex or skin with mouse; return bodyid; -1: none selected.
 
+scn must be made for a model with the flexes and skins of this one (MjvScene(m, maxgeom) or mjv_makeScene).
 selpnt: output array of shape (3,).
 geomid: output array of shape (1,).
 flexid: output array of shape (1,).
@@ -2561,6 +2572,7 @@ skinid: output array of shape (1,).
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_vopt = _m.struct(vopt, "mjvOption", "vopt")
     c_scn = _m.struct(scn, "mjvScene", "scn")
+    _c.scene(c_m, scn, c_scn, "scn")
     selpnt, c_selpnt = _m.array_out(selpnt, _m.NUM, "selpnt", 3)
     geomid, c_geomid = _m.array_out(geomid, _m.INT, "geomid", 1)
     flexid, c_flexid = _m.array_out(flexid, _m.INT, "flexid", 1)
@@ -2644,12 +2656,15 @@ def mjv_updateScene(m, d, opt, pert, cam, catmask, scn):
     """mjv_updateScene(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, opt: mujoco._structs.MjvOption, pert: mujoco._structs.MjvPerturb | None, cam: mujoco._structs.MjvCamera, catmask: int, scn: mujoco._structs.MjvScene) -> None
 
 Update entire scene given model state.
+
+scn must be made for a model with the flexes and skins of this one (MjvScene(m, maxgeom) or mjv_makeScene).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_opt = _m.struct(opt, "mjvOption", "opt")
     c_pert = _m.opt_struct(pert, "mjvPerturb", "pert")
     c_cam = _m.struct(cam, "mjvCamera", "cam")
     c_scn = _m.struct(scn, "mjvScene", "scn")
+    _c.scene(c_m, scn, c_scn, "scn")
     _m.perturb(c_m, c_pert, "pert")
     try:
         status = _lib.mjcffi_guard_mjv_updateScene(c_m, c_d, c_opt, c_pert, c_cam, catmask, c_scn)
@@ -2714,9 +2729,12 @@ def mjv_updateSkin(m, d, scn):
     """mjv_updateSkin(m: mujoco._structs.MjModel, d: mujoco._structs.MjData, scn: mujoco._structs.MjvScene) -> None
 
 Update skins.
+
+scn must be made for a model with the flexes and skins of this one (MjvScene(m, maxgeom) or mjv_makeScene).
 """
     c_m, c_d = _m.model_data(m, d, "m", "d")
     c_scn = _m.struct(scn, "mjvScene", "scn")
+    _c.scene(c_m, scn, c_scn, "scn")
     status = _lib.mjcffi_guard_mjv_updateSkin(c_m, c_d, c_scn)
     _m.check(status)
 
@@ -6392,9 +6410,12 @@ def mjs_makeMesh(mesh, builtin, params):
 
 Sets the vertices and normals of a mesh.
 
+builtin must be a value of mjtMeshBuiltin.
 params: output array of shape (nparams,).
 """
     c_mesh = _m.struct(mesh, "mjsMesh", "mesh")
+    if builtin.__class__ is not int or builtin not in _ENUMS["mjtMeshBuiltin"]:
+        builtin = _c.enum_value(builtin, _ENUMS["mjtMeshBuiltin"], "builtin", "mjtMeshBuiltin")
     params, c_params = _m.array_out(params, _m.NUM, "params")
     nparams = _m.dim(params, 1, 0, 1, "params")
     _m.shape(params, nparams, "params")
@@ -6469,9 +6490,13 @@ def mjs_findElement(s, type, name):
     """mjs_findElement(s: mujoco._structs.MjSpec, type: int, name: str) -> mujoco._structs.MjsElement
 
 Find element in spec by name.
+
+type must be a value of mjtObj.
 """
     c_s = _m.struct(s, "mjSpec", "s")
     c_name = _m.text(name, "name")
+    if type.__class__ is not int or type not in _ENUMS["mjtObj"]:
+        type = _c.enum_value(type, _ENUMS["mjtObj"], "type", "mjtObj")
     try:
         ret = _lib.mjcffi_guard_mjs_findElement(c_s, type, c_name)
     except (TypeError, OverflowError) as exc:
@@ -6575,8 +6600,12 @@ def mjs_firstChild(body, type, recurse):
     """mjs_firstChild(body: mujoco._structs.MjsBody, type: int, recurse: int) -> mujoco._structs.MjsElement
 
 Return body's first child of given type. If recurse is nonzero, also search the body's subtree.
+
+type must be a value of mjtObj.
 """
     c_body = _m.struct(body, "mjsBody", "body")
+    if type.__class__ is not int or type not in _ENUMS["mjtObj"]:
+        type = _c.enum_value(type, _ENUMS["mjtObj"], "type", "mjtObj")
     try:
         ret = _lib.mjcffi_guard_mjs_firstChild(c_body, type, recurse)
     except (TypeError, OverflowError) as exc:
@@ -6606,8 +6635,12 @@ def mjs_firstElement(s, type):
     """mjs_firstElement(s: mujoco._structs.MjSpec, type: int) -> mujoco._structs.MjsElement
 
 Return spec's first element of selected type.
+
+type must be a value of mjtObj.
 """
     c_s = _m.struct(s, "mjSpec", "s")
+    if type.__class__ is not int or type not in _ENUMS["mjtObj"]:
+        type = _c.enum_value(type, _ENUMS["mjtObj"], "type", "mjtObj")
     _m.require(type != 0, 'type must not be mjOBJ_UNKNOWN')
     try:
         ret = _lib.mjcffi_guard_mjs_firstElement(c_s, type)
@@ -6686,11 +6719,13 @@ Set element's name; return 0 on success.
 
 
 def mjs_setBuffer(dest, array):
-    """mjs_setBuffer(dest: Any, array: bytes) -> None
+    """mjs_setBuffer(dest: mjcffi.structs._handles.MjByteVecHandle, array: bytes) -> None
 
 Copy buffer.
+
+dest: an mjByteVec handle (a field of a spec element, or a function's result), never a raw pointer.
 """
-    c_dest = _m.opaque(dest, "dest", False)
+    c_dest = _h.argument(dest, "mjByteVec", "dest")
     c_array, nbytes_array = _m.buffer_in(array, "array")
     size = nbytes_array
     try:
@@ -6701,33 +6736,39 @@ Copy buffer.
 
 
 def mjs_setString(dest, text):
-    """mjs_setString(dest: Any, text: str) -> None
+    """mjs_setString(dest: mjcffi.structs._handles.MjStringHandle, text: str) -> None
 
 Copy text to string.
+
+dest: an mjString handle (a field of a spec element, or a function's result), never a raw pointer.
 """
-    c_dest = _m.opaque(dest, "dest", False)
+    c_dest = _h.argument(dest, "mjString", "dest")
     c_text = _m.text(text, "text")
     status = _lib.mjcffi_guard_mjs_setString(c_dest, c_text)
     _m.check(status)
 
 
 def mjs_setStringVec(dest, text):
-    """mjs_setStringVec(dest: Any, text: str) -> None
+    """mjs_setStringVec(dest: mjcffi.structs._handles.MjStringVecHandle, text: str) -> None
 
 Split text to entries and copy to string vector.
+
+dest: an mjStringVec handle (a field of a spec element, or a function's result), never a raw pointer.
 """
-    c_dest = _m.opaque(dest, "dest", False)
+    c_dest = _h.argument(dest, "mjStringVec", "dest")
     c_text = _m.text(text, "text")
     status = _lib.mjcffi_guard_mjs_setStringVec(c_dest, c_text)
     _m.check(status)
 
 
 def mjs_setInStringVec(dest, i, text):
-    """mjs_setInStringVec(dest: Any, i: int, text: str) -> int
+    """mjs_setInStringVec(dest: mjcffi.structs._handles.MjStringVecHandle, i: int, text: str) -> int
 
 Set entry in string vector.
+
+dest: an mjStringVec handle (a field of a spec element, or a function's result), never a raw pointer.
 """
-    c_dest = _m.opaque(dest, "dest", False)
+    c_dest = _h.argument(dest, "mjStringVec", "dest")
     c_text = _m.text(text, "text")
     try:
         ret = _lib.mjcffi_guard_mjs_setInStringVec(c_dest, i, c_text)
@@ -6738,24 +6779,27 @@ Set entry in string vector.
 
 
 def mjs_appendString(dest, text):
-    """mjs_appendString(dest: Any, text: str) -> None
+    """mjs_appendString(dest: mjcffi.structs._handles.MjStringVecHandle, text: str) -> None
 
 Append text entry to string vector.
+
+dest: an mjStringVec handle (a field of a spec element, or a function's result), never a raw pointer.
 """
-    c_dest = _m.opaque(dest, "dest", False)
+    c_dest = _h.argument(dest, "mjStringVec", "dest")
     c_text = _m.text(text, "text")
     status = _lib.mjcffi_guard_mjs_appendString(c_dest, c_text)
     _m.check(status)
 
 
 def mjs_setInt(dest, array):
-    """mjs_setInt(dest: Any, array: numpy.typing.NDArray[numpy.int32]) -> None
+    """mjs_setInt(dest: mjcffi.structs._handles.MjIntVecHandle, array: numpy.typing.NDArray[numpy.int32]) -> None
 
 Copy int array to vector.
 
+dest: an mjIntVec handle (a field of a spec element, or a function's result), never a raw pointer.
 array: array of shape (size,).
 """
-    c_dest = _m.opaque(dest, "dest", False)
+    c_dest = _h.argument(dest, "mjIntVec", "dest")
     array, c_array = _m.array_in(array, _m.INT, "array")
     size = _m.dim(array, 1, 0, 1, "array")
     _m.shape(array, size, "array")
@@ -6767,13 +6811,14 @@ array: array of shape (size,).
 
 
 def mjs_appendIntVec(dest, array):
-    """mjs_appendIntVec(dest: Any, array: numpy.typing.NDArray[numpy.int32]) -> None
+    """mjs_appendIntVec(dest: mjcffi.structs._handles.MjIntVecVecHandle, array: numpy.typing.NDArray[numpy.int32]) -> None
 
 Append int array to vector of arrays.
 
+dest: an mjIntVecVec handle (a field of a spec element, or a function's result), never a raw pointer.
 array: array of shape (size,).
 """
-    c_dest = _m.opaque(dest, "dest", False)
+    c_dest = _h.argument(dest, "mjIntVecVec", "dest")
     array, c_array = _m.array_in(array, _m.INT, "array")
     size = _m.dim(array, 1, 0, 1, "array")
     _m.shape(array, size, "array")
@@ -6785,13 +6830,14 @@ array: array of shape (size,).
 
 
 def mjs_setFloat(dest, array):
-    """mjs_setFloat(dest: Any, array: numpy.typing.NDArray[numpy.float32]) -> None
+    """mjs_setFloat(dest: mjcffi.structs._handles.MjFloatVecHandle, array: numpy.typing.NDArray[numpy.float32]) -> None
 
 Copy float array to vector.
 
+dest: an mjFloatVec handle (a field of a spec element, or a function's result), never a raw pointer.
 array: array of shape (size,).
 """
-    c_dest = _m.opaque(dest, "dest", False)
+    c_dest = _h.argument(dest, "mjFloatVec", "dest")
     array, c_array = _m.array_in(array, _m.FLOAT, "array")
     size = _m.dim(array, 1, 0, 1, "array")
     _m.shape(array, size, "array")
@@ -6803,13 +6849,14 @@ array: array of shape (size,).
 
 
 def mjs_appendFloatVec(dest, array):
-    """mjs_appendFloatVec(dest: Any, array: numpy.typing.NDArray[numpy.float32]) -> None
+    """mjs_appendFloatVec(dest: mjcffi.structs._handles.MjFloatVecVecHandle, array: numpy.typing.NDArray[numpy.float32]) -> None
 
 Append float array to vector of arrays.
 
+dest: an mjFloatVecVec handle (a field of a spec element, or a function's result), never a raw pointer.
 array: array of shape (size,).
 """
-    c_dest = _m.opaque(dest, "dest", False)
+    c_dest = _h.argument(dest, "mjFloatVecVec", "dest")
     array, c_array = _m.array_in(array, _m.FLOAT, "array")
     size = _m.dim(array, 1, 0, 1, "array")
     _m.shape(array, size, "array")
@@ -6821,13 +6868,14 @@ array: array of shape (size,).
 
 
 def mjs_setDouble(dest, array):
-    """mjs_setDouble(dest: Any, array: numpy.typing.NDArray[numpy.float64]) -> None
+    """mjs_setDouble(dest: mjcffi.structs._handles.MjDoubleVecHandle, array: numpy.typing.NDArray[numpy.float64]) -> None
 
 Copy double array to vector.
 
+dest: an mjDoubleVec handle (a field of a spec element, or a function's result), never a raw pointer.
 array: array of shape (size,).
 """
-    c_dest = _m.opaque(dest, "dest", False)
+    c_dest = _h.argument(dest, "mjDoubleVec", "dest")
     array, c_array = _m.array_in(array, _m.NUM, "array")
     size = _m.dim(array, 1, 0, 1, "array")
     _m.shape(array, size, "array")
@@ -6851,22 +6899,24 @@ The raw C function is mjcffi.lib.mjs_setPluginAttributes.
 
 
 def mjs_getName(element):
-    """mjs_getName(element: mujoco._structs.MjsElement) -> Any
+    """mjs_getName(element: mujoco._structs.MjsElement) -> mjcffi.structs._handles.MjStringHandle
 
 Get element's name.
 """
     c_element = _m.struct(element, "mjsElement", "element")
     ret = _lib.mjcffi_guard_mjs_getName(c_element)
     _m.check_error()
-    return None if ret == _m.NULL else ret
+    return _h.result(ret, "mjString", element)
 
 
 def mjs_getString(source):
-    """mjs_getString(source: Any) -> str
+    """mjs_getString(source: mjcffi.structs._handles.MjStringHandle) -> str
 
 Get string contents.
+
+source: an mjString handle (a field of a spec element, or a function's result), never a raw pointer.
 """
-    c_source = _m.opaque(source, "source", False)
+    c_source = _h.argument(source, "mjString", "source")
     ret = _lib.mjcffi_guard_mjs_getString(c_source)
     _m.check_error()
     return _m.string(ret)

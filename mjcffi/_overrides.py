@@ -17,6 +17,7 @@ from . import _marshal as _m
 from . import callbacks as _callbacks
 from . import warning_errors as _warnings
 from ._library import ffi, lib
+from .structs import _checks, _handles
 
 __all__ = ["mj_step", "mj_forward", "mj_loadXML", "mj_loadModel", "mj_loadModelBuffer",
            "mj_compile", "mj_copyModel", "mj_embedAssets", "mj_makeData", "mj_defaultVFS",
@@ -49,7 +50,8 @@ SIGNATURES = {
                       "numpy.uint8], int]",
     "mj_saveXMLString": f"mj_saveXMLString(s: {_SPEC}) -> str",
     "mj_printSchema": "mj_printSchema(flg_html: bool, flg_pad: bool) -> str",
-    "mjs_getDouble": "mjs_getDouble(source: Any) -> numpy.typing.NDArray[numpy.float64]",
+    "mjs_getDouble": "mjs_getDouble(source: mjcffi.structs._handles.MjDoubleVecHandle) -> "
+                     "numpy.typing.NDArray[numpy.float64]",
     "mjr_findRect": "mjr_findRect(x: int, y: int, nrect: int, rect: mujoco._structs.MjrRect | "
                     "list[mujoco._structs.MjrRect]) -> int",
     "mju_getXMLDependencies": "mju_getXMLDependencies(filename: str) -> list[str]",
@@ -276,15 +278,17 @@ def _scene(scn):
     return scn
 
 
-def _renew(scn, make=None):
+def _renew(scn, make=None, model=_m.NULL):
     """Give the MjvScene `scn` a new mjvScene, zeroed (mjv_defaultScene) and then
-    filled by make(pointer); if that raises, scn keeps its scene."""
+    filled by make(pointer), for C mjModel `model` (recorded: see structs/_checks.py);
+    if that raises, scn keeps its scene."""
     root = ffi.gc(ffi.new("mjvScene *"), lib.mjv_freeScene)
     if make is not None:
         make(root)
     from ._views import _Cached
     cls = type(scn)
     scn._adopt(root, root, {})
+    _checks.made_for(scn, model)
     stale = [name for name in scn.__dict__ if isinstance(getattr(cls, name, None), _Cached)]
     for name in stale:                  # views cached from the old scene (scn.translate, ...)
         scn.__dict__.pop(name, None)
@@ -303,7 +307,7 @@ def mjv_makeScene(m, scn, maxgeom):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjv_makeScene", {"maxgeom": ("int", maxgeom)}) from None
         _m.check(status)
-    _renew(scn, make)
+    _renew(scn, make, c_m)
 
 
 def mjv_freeScene(scn):
@@ -343,7 +347,8 @@ def mju_free(ptr):
     """Python: ptr must be a pointer that mju_malloc returned and that was not freed
     yet (ValueError otherwise): any other pointer is memory that MuJoCo or Python
     owns and frees itself, such as a spec element's or a struct field's."""
-    c_ptr = _m.opaque(ptr, "ptr", False)
+    owned = getattr(ptr, "_ptr", None)          # a struct wrapper or a spec handle
+    c_ptr = _m.opaque(ptr if owned is None else owned, "ptr", False)
     address = int(ffi.cast("uintptr_t", c_ptr))
     try:
         _ALLOCATED.remove(address)
@@ -412,8 +417,9 @@ def mj_printSchema(flg_html, flg_pad):
 
 
 def mjs_getDouble(source):
-    """Python: returns a NumPy copy of the mjDoubleVec `source` (a raw handle)."""
-    c_source = _m.opaque(source, "source")
+    """Python: returns a NumPy copy of the mjDoubleVec `source`, a handle (a spec field
+    such as MjsBody.userdata), never a raw pointer."""
+    c_source = _handles.argument(source, "mjDoubleVec", "source")
     size = ffi.new("int *")
     ret = lib.mjcffi_guard_mjs_getDouble(c_source, size)
     _m.check_error()

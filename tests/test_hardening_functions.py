@@ -506,3 +506,326 @@ def test_item_a_raw_model_pointer_is_checked_against_the_data():
     F.mj_checkVel(m._ptr, d)                       # the same sizes: taken
     with pytest.raises(ValueError, match="dest was made for a model of other sizes"):
         F.mj_copyData(mjcffi.MjData(m), other._ptr, d)
+
+
+# ------------------------------------------- spec handles (mjString *, ...)
+#
+# mjspec.h declares mjString, mjDoubleVec, ... as `typedef void`: cffi sees them all
+# as `void *`, and MuJoCo took any pointer for any of them (another kind, an mjData
+# stack pointer, ffi.new memory: SIGSEGV/SIGABRT).  They are typed handles now.
+
+def _handle_functions():
+    """(function, C argument, kind) of every argument of a handle type."""
+    from mjcffi.structs import _handles
+    return [(name, a.name, a.elem) for name, func in FUNCTIONS.items() for a in func.args
+            if a.elem in _handles.KINDS and a.pointer == 1]
+
+
+def test_item_handle_kinds_are_the_typedef_void_types_of_the_headers():
+    from codegen import headers, parse
+    from mjcffi.structs import _handles
+    decls = parse.parse(headers.mujoco_declarations())
+    voids = {name for name, target in decls.typedefs.items() if target.strip() == "void"}
+    assert set(_handles.KINDS) == voids and len(voids) == 8
+    assert {kind for _, _, kind in _handle_functions()} == voids     # each one is taken
+    assert len(_handle_functions()) == 13
+
+
+def test_item_spec_fields_of_handle_types_give_handles_that_keep_the_spec_alive():
+    code, out, err = _run("""
+import gc
+from mjcffi import functions as F
+from mjcffi._structinfo import STRUCTS
+from mjcffi.structs import _handles
+from tests.fuzz.env import _SPEC_MAKERS
+s = F.mj_makeSpec()
+world = F.mjs_findBody(s, "world")
+body = F.mjs_addBody(world, None)
+fields = refs = 0
+kept = []
+for cname, make in {"mjSpec": lambda *args: s, **_SPEC_MAKERS}.items():
+    obj = make(F, s, world, body)
+    for field in STRUCTS[cname]:
+        if field.kind != "pointer" or field.extents:
+            continue
+        value = getattr(obj, field.name)
+        if field.elem in _handles.KINDS:
+            assert type(value) is _handles.KINDS[field.elem], (cname, field.name, value)
+            assert value == getattr(obj, field.name) and value._root is obj._root
+            fields += 1
+            kept.append(value)
+        elif field.elem.startswith("mjs"):
+            assert value._cname == field.elem and value._root is obj._root, (cname, field.name)
+            refs += 1
+            kept.append(value)
+print(fields, refs)
+name = F.mjs_getName(body.element)
+element = body.element
+del s, world, body, obj, value
+gc.collect()
+F.mjs_setName(element, "kept")                     # the spec lives on in its handles
+print(F.mjs_getString(name), F.mjs_getString(F.mjs_getName(element)))
+for value in kept:
+    repr(value)
+print("done")
+""")
+    assert code == 0, err[-3000:]
+    lines = out.split()
+    assert int(lines[0]) > 100 and int(lines[1]) >= 40, out     # every mjString ... field
+    assert lines[2:] == ["kept", "kept", "done"], out
+
+
+def _handle_call_outcomes():
+    """Every handle argument called with what it must refuse, in a subprocess."""
+    code, out, err = _run("""
+import json
+import numpy as np
+import mjcffi
+from mjcffi import ffi, functions as F
+from mjcffi.structs import _handles
+s = F.mj_makeSpec()
+body = F.mjs_addBody(F.mjs_findBody(s, "world"), None)
+texture = F.mjs_addTexture(s, None)
+flex = F.mjs_addFlex(s)
+mesh = F.mjs_addMesh(s, None)
+handles = {"mjString": body.childclass, "mjStringVec": texture.cubefiles,
+           "mjDoubleVec": body.userdata, "mjIntVec": flex.elem, "mjFloatVec": mesh.uservert,
+           "mjIntVecVec": None, "mjFloatVecVec": None, "mjByteVec": texture.data}
+m = mjcffi.MjModel.from_xml_string("<mujoco/>")
+d = mjcffi.MjData(m)
+others = {"another kind": lambda kind: next(h for k, h in handles.items() if k != kind and h),
+          "the right memory, raw": lambda kind: handles[kind] and ffi.cast("void *",
+                                                                          handles[kind]._ptr),
+          "a stack pointer": lambda kind: mjcffi.mj_stackAllocNum(d, 3),
+          "ffi.new memory": lambda kind: ffi.new("char[]", 64),
+          "NULL": lambda kind: ffi.NULL, "None": lambda kind: None, "int": lambda kind: 0}
+args = {"text": "abc", "array": None, "i": 0}
+results = []
+for func, argname, kind in json.loads(%r):
+    for label, make in others.items():
+        value = make(kind)
+        if value is None and label != "None":
+            continue
+        call = {"mjs_setBuffer": (value, b"ab"), "mjs_setInt": (value, np.zeros(2, np.int32)),
+                "mjs_appendIntVec": (value, np.zeros(2, np.int32)),
+                "mjs_setFloat": (value, np.zeros(2, np.float32)),
+                "mjs_appendFloatVec": (value, np.zeros(2, np.float32)),
+                "mjs_setDouble": (value, np.zeros(2)), "mjs_setInStringVec": (value, 0, "a"),
+                "mjs_getString": (value,), "mjs_getDouble": (value,),
+                "mju_getXMLDependencies": None}.get(func, (value, "abc"))
+        if call is None:
+            continue
+        try:
+            getattr(F, func)(*call)
+        except Exception as exc:
+            results.append([func, argname, kind, label, type(exc).__name__, str(exc)])
+        else:
+            results.append([func, argname, kind, label, "ok", ""])
+print(json.dumps(results))
+""" % json.dumps(_handle_functions()))
+    assert code == 0, err[-3000:]
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def test_item_every_handle_argument_takes_only_a_handle_of_its_kind():
+    outcomes = _handle_call_outcomes()
+    assert len({o[0] for o in outcomes}) == 12          # all but mju_getXMLDependencies
+    assert len(outcomes) >= 80
+    for func, argname, kind, label, exc, message in outcomes:
+        assert exc == "TypeError", (func, label, exc, message)
+        assert message.startswith(f"{argname} must be an {kind} handle"), (func, message)
+        if label == "another kind":
+            assert message.endswith(" handle") and f"not an {kind} " not in message
+        if label in ("the right memory, raw", "a stack pointer", "ffi.new memory", "NULL"):
+            assert "raw cffi pointer" in message, message
+
+
+def test_item_handles_work_where_mujoco_takes_them():
+    s = F.mj_makeSpec()
+    body = F.mjs_addBody(F.mjs_findBody(s, "world"), None)
+    F.mjs_setString(body.childclass, "main")
+    assert F.mjs_getString(body.childclass) == "main"
+    F.mjs_setDouble(body.userdata, np.arange(3.0))
+    assert F.mjs_getDouble(body.userdata).tolist() == [0, 1, 2]
+    F.mjs_setName(body.element, "b")
+    name = F.mjs_getName(body.element)
+    assert type(name).__name__ == "MjStringHandle" and F.mjs_getString(name) == "b"
+    assert name == F.mjs_getName(body.element) and hash(name) == hash(F.mjs_getName(body.element))
+    assert name != body.childclass and "MjStringHandle (mjString *) at 0x" in repr(name)
+    with pytest.raises(TypeError, match="has no constructor"):
+        type(name)()
+    import pickle
+    with pytest.raises(TypeError, match="cannot be copied or pickled"):
+        pickle.dumps(name)
+
+
+# ------------------------------------------------- enum-typed arguments
+
+# What derive_enums finds in MuJoCo 4.0's headers: the arguments declared as an mjt* enum.
+_ENUM_ARGUMENTS = {"mjs_findElement": {"type": "mjtObj"}, "mjs_firstChild": {"type": "mjtObj"},
+                   "mjs_firstElement": {"type": "mjtObj"},
+                   "mjs_makeMesh": {"builtin": "mjtMeshBuiltin"}}
+
+
+def test_item_enum_arguments_are_derived_from_the_declarations():
+    from codegen import headers, parse
+    decls = parse.parse(headers.mujoco_declarations())
+    found = table.derive_enums(decls, set(table.OVERRIDES) | set(table.UNSUPPORTED))
+    assert found == _ENUM_ARGUMENTS
+    assert table.ENUM_EXCEPTIONS == {}
+
+
+def _enum_calls():
+    s = F.mj_makeSpec()
+    body = F.mjs_addBody(F.mjs_findBody(s, "world"), None)
+    mesh = F.mjs_addMesh(s, None)
+    return s, {"mjs_findElement": lambda v: F.mjs_findElement(s, v, "b"),
+               "mjs_firstChild": lambda v: F.mjs_firstChild(body, v, 1),
+               "mjs_firstElement": lambda v: F.mjs_firstElement(s, v),
+               "mjs_makeMesh": lambda v: F.mjs_makeMesh(mesh, v, np.ones(4))}
+
+
+@pytest.mark.parametrize("func", sorted(_ENUM_ARGUMENTS))
+def test_item_enum_arguments_outside_their_enum_raise_value_error(func):
+    (argname, enum), = _ENUM_ARGUMENTS[func].items()
+    values = {v.value for v in getattr(mjcffi, enum)}
+    _keep, calls = _enum_calls()
+    with _calls.stubbed():                 # a value that got through would not reach MuJoCo
+        gaps = [v for v in range(max(values)) if v not in values][:3]
+        for bad in (10**9, 2**31 - 1, 2**31, 2**64, -1, max(values) + 1, *gaps):
+            with pytest.raises(ValueError, match=rf"^{argname}={bad} is not a value of {enum}"):
+                calls[func](bad)
+        for bad in ("1", 1.0, None):
+            with pytest.raises(TypeError, match=rf"^{argname} must be an int \(a value of {enum}"):
+                calls[func](bad)
+        for good in (max(values), getattr(mjcffi, enum)(max(values)), np.int64(1)):
+            with pytest.raises(_calls._Reached):
+                calls[func](good)
+
+
+def test_item_mjs_findElement_with_a_huge_type_raises_instead_of_crashing():
+    result = _run("""
+from mjcffi import functions as F
+s = F.mj_makeSpec()
+body = F.mjs_addBody(F.mjs_findBody(s, "world"), None)
+F.mjs_setName(body.element, "b")
+for value in (10**9, 2**31 - 1):
+    try:
+        F.mjs_findElement(s, value, "b")
+    except ValueError as exc:
+        print("refused", exc)
+print(F.mjs_findElement(s, 1, "b").elemtype)
+""", timeout=120)
+    assert result[0] == 0, result[2][-2000:]
+    assert result[1].count("refused type=") == 2 and result[1].split()[-1] == "1", result[1]
+
+
+# --------------------------------------------- a scene for another model
+
+_SKIN = """
+<mujoco>
+  <worldbody><body name="b"><geom size=".1"/></body></worldbody>
+  <deformable>
+    <skin name="s" vertex="0 0 0  1 0 0  0 1 0" face="0 1 2">
+      <bone body="b" bindpos="0 0 0" bindquat="1 0 0 0" vertid="0 1 2" vertweight="1 1 1"/>
+    </skin>
+  </deformable>
+</mujoco>
+"""
+
+
+def _scene_models():
+    flex = mjcffi.MjModel.from_xml_string(_calls.XML)
+    skin = mjcffi.MjModel.from_xml_string(_SKIN)
+    plain = mjcffi.MjModel.from_xml_string(scenes.DEFAULT)
+    assert (flex.nflex, flex.nskin, skin.nflex, skin.nskin, plain.nflex, plain.nskin) == \
+        (1, 0, 0, 1, 0, 0)
+    return flex, skin, plain
+
+
+def _scene_calls(m):
+    """The calls that write m's flexes and skins into scn (or read them), by name."""
+    d = mjcffi.MjData(m)
+    opt, cam = structs.MjvOption(), structs.MjvCamera()
+    ints = [np.zeros(1, np.int32) for _ in range(3)]
+    return {"mjv_updateScene": lambda scn: F.mjv_updateScene(m, d, opt, None, cam, 7, scn),
+            "mjv_updateSkin": lambda scn: F.mjv_updateSkin(m, d, scn),
+            "mjv_select": lambda scn: F.mjv_select(m, d, opt, 1.0, 0.5, 0.5, scn, np.zeros(3),
+                                                   *ints)}
+
+
+def test_item_scene_checks_are_the_functions_that_write_a_model_into_a_scene():
+    assert set(table.SCENES) == {"mjv_updateScene", "mjv_updateSkin", "mjv_select"}
+    assert set(_scene_calls(mjcffi.MjModel.from_xml_string(scenes.DEFAULT))) == set(table.SCENES)
+
+
+@pytest.mark.parametrize("which", ["flex", "skin"])
+def test_item_a_scene_made_for_no_model_or_another_raises_value_error_naming_scn(which):
+    flex, skin, plain = _scene_models()
+    m = flex if which == "flex" else skin
+    other = skin if which == "flex" else flex
+    with _calls.stubbed():                 # a call that got through would not reach MuJoCo
+        for label, scn in (("no model", structs.MjvScene()),
+                           ("a model without them", structs.MjvScene(plain, 100)),
+                           ("another model", structs.MjvScene(other, 100))):
+            for func, call in _scene_calls(m).items():
+                with pytest.raises(ValueError, match=r"^scn was made for .*not for this model") \
+                        as caught:
+                    call(scn)
+                assert "mjv_makeScene(m, scn, maxgeom)" in str(caught.value), (label, func)
+        freed = structs.MjvScene(m, 100)
+        F.mjv_freeScene(freed)
+        with pytest.raises(ValueError, match="^scn was made for no model"):
+            _scene_calls(m)["mjv_updateScene"](freed)
+        with pytest.raises(TypeError, match="^scn must be an MjvScene .* not a raw mjvScene"):
+            _scene_calls(m)["mjv_updateScene"](structs.MjvScene(m, 100)._ptr)
+
+
+def test_item_a_scene_made_for_the_model_or_one_like_it_is_taken():
+    flex, skin, plain = _scene_models()
+    for m in (flex, skin):
+        calls = _scene_calls(m)
+        scn = structs.MjvScene(m, 100)
+        remade = structs.MjvScene(plain, 10)
+        F.mjv_makeScene(m, remade, 100)                    # mjcffi's mjv_makeScene records it
+        like = mjcffi.MjModel.from_xml_string(_calls.XML if m is flex else _SKIN)
+        for scene in (scn, remade, structs.MjvScene(like, 100)):
+            for func, call in calls.items():
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")          # mjv_updateSkin is deprecated
+                    call(scene)
+        calls["mjv_updateScene"](scn)
+        assert scn.ngeom > 0
+    # a model without flexes and skins writes nothing there: any scene will do
+    calls = _scene_calls(plain)
+    for scene in (structs.MjvScene(), structs.MjvScene(flex, 100),
+                  structs.MjvScene(plain, 100)._ptr):
+        calls["mjv_updateScene"](scene)
+
+
+def test_item_a_scene_remade_or_rewritten_outside_mjcffi_is_refused():
+    flex, skin, plain = _scene_models()
+    call = _scene_calls(flex)["mjv_updateScene"]
+    with _calls.stubbed():
+        scn = structs.MjvScene(flex, 100)
+        scn.flexfaceadr[0] = 10**6                          # MuJoCo writes faces there
+        with pytest.raises(ValueError, match=r"^scn's buffers were changed outside mjcffi"):
+            call(scn)
+        scn = structs.MjvScene(flex, 100)
+        mjcffi.lib.mjv_makeScene(flex._ptr, scn._ptr, 10)  # raw: new buffers, not recorded
+        scn._remade()
+        with pytest.raises(ValueError, match=r"^scn's buffers were changed outside mjcffi"):
+            call(scn)
+
+
+def test_item_the_scene_check_costs_little():
+    """Measured against the call: a model without flexes and skins pays two reads."""
+    import timeit
+    from mjcffi.structs import _checks
+    flex, skin, plain = _scene_models()
+    for m, limit in ((plain, 2e-6), (flex, 2e-5)):
+        scn = structs.MjvScene(m, 100)
+        _checks.scene(m._ptr, scn, scn._ptr)
+        cost = min(timeit.repeat(lambda: _checks.scene(m._ptr, scn, scn._ptr), number=2000,
+                                 repeat=3)) / 2000
+        assert cost < limit, (m.nflex, cost)

@@ -196,7 +196,7 @@ def test_item2_bounds_come_from_the_metadata():
                 assert high == fields[array].extents[0] + min(low, 0), (cname, name)
             bounded += 1
         assert set(cls._capacities) == {n for n, b in cls._bounds.items() if b.high is None}
-    assert bounded >= 15
+    assert bounded >= 14
 
 
 # ------------------------------------------------------------ writing past bounds
@@ -239,13 +239,13 @@ def test_item2_writing_past_a_bound_raises_value_error_naming_the_field_and_the_
                 assert getattr(obj, name) == kept                # nothing written
             with pytest.raises(TypeError, match=f"{label}.{name}"):
                 setattr(obj, name, 1.5)
-            if name not in ("pstack", "pbase"):              # both ends are accepted
+            if name != "pstack":                             # both ends are accepted
                 for good in (bound.low, high):
                     setattr(obj, name, good)
                     assert getattr(obj, name) == good
             setattr(obj, name, kept)
             checked += 1
-    assert checked >= 15
+    assert checked >= 14
 
 
 def test_item2_scene_counts_are_writable_as_official_within_their_allocation():
@@ -494,3 +494,26 @@ def test_item_array_fields_refuse_values_their_dtype_cannot_hold():
     with pytest.raises(ValueError, match="geomgroup"):
         mjcffi.MjvOption().geomgroup = [256] * 6
     assert (m.opt.gravity == [0, 0, -9.81]).all()
+
+
+# ---------------------------------------------------------- MjData.pbase
+
+def test_item_pbase_is_an_address_and_read_only():
+    """pbase is the address of the last mj_markStack's record (0 when none), not an
+    offset into the arena as pstack is: no value written from Python can be valid, and
+    under the old bound 0..narena `d.pbase = 8; mj_freeStack(d)` segfaulted."""
+    m = mjcffi.MjModel.from_xml_string(FLEX)
+    d = mjcffi.MjData(m)
+    assert d.pbase == 0 and d.pstack == 0
+    mjcffi.lib.mj_markStack(d._ptr)
+    arena = int(mjcffi.ffi.cast("uintptr_t", d._ptr.arena))
+    assert arena <= d.pbase < arena + d.narena          # an address inside the arena
+    assert 0 < d.pstack < d.narena                      # an offset
+    mjcffi.lib.mj_freeStack(d._ptr)
+    for value in (0, 8, d.narena):
+        with pytest.raises(AttributeError):
+            d.pbase = value
+    assert d.pbase == 0 and "pbase" not in type(d)._bounds
+    d.pstack = 8                                        # pstack stays writable, bounded
+    assert d.pstack == 8
+    d.pstack = 0

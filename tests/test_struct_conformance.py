@@ -310,9 +310,9 @@ def _writable(obj, name, value):
 # bound keeps them safe: ncon, nefc, ... size arrays laid out one after another in
 # the arena, and MuJoCo follows the addresses they hold.  (A scene's maxgeom,
 # nflex and nskin are writable as in the official, within what mjv_makeScene
-# allocated.)
+# allocated.)  pbase holds the address of the last mj_markStack record.
 STRICTER = {
-    "MjData": {"narena", "nbuffer", "nplugin", "parena", "threadpool", "ncon", "ne", "nf", "nl",
+    "MjData": {"narena", "nbuffer", "nplugin", "parena", "pbase", "threadpool", "ncon", "ne", "nf", "nl",
                "nefc", "nJ", "efm_active", "nefmK", "nefmcon", "nefmT", "nefmA", "nefmdof",
                "nefmL", "nY", "nA", "nisland", "nidof", "ntree_awake", "nbody_awake",
                "nparent_awake", "nv_awake"},

@@ -100,7 +100,6 @@ class MjData(Struct):
     _plain = False
     _bounds = {
         'pstack': Bound(0, 'narena', 'narena'),
-        'pbase': Bound(0, 'narena', 'narena'),
     }
 
     def __init__(self, *args, **kwargs):
@@ -110,7 +109,7 @@ class MjData(Struct):
     nbuffer: int = scalar('nbuffer', 'size of main buffer in bytes', readonly=True)
     nplugin: int = scalar('nplugin', 'number of plugin instances', readonly=True)
     pstack: int = scalar('pstack', 'first available byte in stack (mutable)')
-    pbase: int = scalar('pbase', 'value of pstack when mj_markStack was last called (mutable)')
+    pbase: int = scalar('pbase', 'value of pstack when mj_markStack was last called (mutable)', readonly=True)
     parena: int = scalar('parena', 'first available byte in arena', readonly=True)
     threadpool: int = scalar('threadpool', 'thread pool pointer', readonly=True)
     threadlock: bool = scalar('threadlock', 'disable stack freeing during threaded execution', readonly=True, boolean=True)

@@ -5,6 +5,7 @@ from .._library import ffi, lib
 from .._views import (AllocatedArray, Bound, DynamicArray, FixedArray, FixedRecords, Records,
                       Struct, ValueStruct, guarded, int_argument, scalar, struct_pointer,
                       struct_type, text, total)
+from ._checks import made_for
 
 __all__ = ['MjvPerturb', 'MjvCamera', 'MjvGLCamera', 'MjvGeom', 'MjvLight', 'MjvOption', 'MjvScene', 'MjvFigure']
 
@@ -196,6 +197,7 @@ class MjvScene(Struct):
         guarded(lib.mjcffi_guard_mjv_makeScene, ffi.NULL if model is None else struct_pointer(model, 'mjModel', 'model'), root, 0 if maxgeom is None else int_argument(maxgeom, 'maxgeom', 'int'))
         root = ffi.gc(root, lib.mjv_freeScene)
         self._init_root(root)
+        made_for(self, ffi.NULL if model is None else model._ptr)
 
     maxgeom: int = scalar('maxgeom', 'size of allocated geom buffer')
     ngeom: int = scalar('ngeom', 'number of geoms currently in buffer')
