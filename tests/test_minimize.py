@@ -239,6 +239,16 @@ def test_bad_arguments_raise_value_error(kwargs, message):
     assert str(info.value) == message  # details go to notes
 
 
+@pytest.mark.parametrize("name", ["eps", "mu_min", "mu_max", "mu_factor", "xtol", "gtol"])
+def test_float_arguments_no_float_holds_or_that_are_no_numbers(name):
+    kwargs = {"x0": np.zeros(2), "residual": rosenbrock, "verbose": SILENT}
+    with pytest.raises(ValueError, match=f"^{name} is too large for a float64"):
+        minimize.least_squares(**kwargs, **{name: 2**1100})
+    for bad in ("1e-3", [1e-3], None):
+        with pytest.raises(TypeError, match=f"^{name} must be a real number"):
+            minimize.least_squares(**kwargs, **{name: bad})
+
+
 def test_messages_of_bad_arguments_are_the_official_ones(mujoco):
     import mujoco.minimize as official
     for kwargs in [dict(bounds=[np.zeros(3), np.ones(3)]), dict(x0=np.array([np.nan, 0.0])),

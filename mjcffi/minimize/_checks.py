@@ -5,6 +5,20 @@ import numpy as np
 from .._errors import with_note
 
 
+def _real(name, value):
+    """A float argument as a Python float: TypeError for a non-number, ValueError for
+    one no float holds (an int such as 2**1100)."""
+    if isinstance(value, (str, bytes)) or not np.isscalar(value) and np.ndim(value) != 0:
+        raise TypeError(f"{name} must be a real number, not {type(value).__name__}")
+    try:
+        return float(value)
+    except OverflowError:
+        raise ValueError(f"{name} is too large for a float64 (an int of "
+                         f"{int(value).bit_length()} bits)") from None
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a real number, not {type(value).__name__}") from None
+
+
 def _starting_point(x0):
     """x0 as a fresh float64 column."""
     x = np.array(x0, dtype=np.float64)

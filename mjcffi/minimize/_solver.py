@@ -9,7 +9,7 @@ import numpy as np
 from .._functions import mju_boxQP  # generated; not among the overrides
 from ._checks import (
     _as_matrix, _checked_residual, _grad_hess, _resolve_bounds, _resolve_scale,
-    _starting_point,
+    _real, _starting_point,
 )
 from ._derivatives import _check_norm, _compare_jacobian, jacobian_fd
 from ._types import _STATUS_TEXT, IterLog, Norm, Quadratic, Status, Verbosity
@@ -80,6 +80,9 @@ def least_squares(
       Whatever `residual`, `jacobian` or `norm` raise passes through unchanged.
     """
     verbosity = Verbosity(verbose).value
+    eps, mu_min, mu_max, mu_factor, xtol, gtol = (_real(name, value) for name, value in (
+        ("eps", eps), ("mu_min", mu_min), ("mu_max", mu_max), ("mu_factor", mu_factor),
+        ("xtol", xtol), ("gtol", gtol)))
     norm = _QUADRATIC if norm is None else norm
     x = _starting_point(x0)
     n = x.shape[0]
