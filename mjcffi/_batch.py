@@ -16,16 +16,15 @@ which and why.
 """
 
 import operator
-import re
 
 import numpy as np
 
+from . import _modelcheck
 from . import callbacks as _callbacks
 from ._constants import mjNGROUP
 from ._enums import mjtEq, mjtState, mjtWarning
 from ._errors import FatalError, check, raise_pending, with_note
 from ._library import ffi, lib
-from ._structinfo import STRUCTS
 from ._views import DTYPES, view
 from .data import MjData
 from .model import MjModel
@@ -630,37 +629,9 @@ def _field_tables():
 # of other arrays cannot differ between simulations: one simulation's value
 # would make MuJoCo index out of range of arrays that all share one layout
 # (a body_parentid past nbody, a jnt_type that makes a hinge's one qpos a free
-# joint's seven).  mjb_expand accepts them; expand() refuses them.  They are
-# found from the headers' metadata: integer fields named or described as ids,
-# addresses, counts, sizes, sparse structure, maps or types (mjt* enums),
-# and the few structural flags below that their comments do not mark.
-
-_INDEX_SUFFIXES = ("id", "ids", "adr", "num", "nnz", "colind", "diag", "signature", "perm",
-                   "type", "_size", "_dim", "_history")
-_INDEX_WORDS = re.compile(r"\bids?\b|address|\baddr\b|number of|\bindex|indices|pointers|"
-                          r"\(mjt\w+|\btype\b|resolution|parameters|signature|history|"
-                          r"interpolation|bits")
-_STRUCTURAL = {"body_simple", "flex_dim", "flex_edgeequality", "flex_elemlayer", "flex_elem",
-               "flex_edge", "flex_shell", "flex_edgeflap", "flex_elemedge", "flex_elemtexcoord",
-               "flex_rigid", "flexedge_rigid", "plugin", "plugin_attr", "names_map"}
-
-
-def _index_fields(names, model):
-    """The integer mjModel fields among `names` that index other arrays (see above)."""
-    docs = {field.name: field.doc for field in STRUCTS["mjModel"]}
-    found = set()
-    for name in names:
-        if name.startswith("opt.") or name in CHECKED_FIELDS:
-            continue                   # MjOption's ints are counts of iterations and modes
-        value = getattr(model, name, None)
-        if not isinstance(value, np.ndarray) or value.dtype.kind not in "iub":
-            continue
-        if name.endswith("contype"):
-            continue                   # contact bitmasks, compared only
-        if (name in _STRUCTURAL or name.endswith(_INDEX_SUFFIXES) or name.startswith("name_")
-                or name.startswith("map") or _INDEX_WORDS.search(docs.get(name, ""))):
-            found.add(name)
-    return frozenset(found)
+# joint's seven).  mjb_expand accepts them; expand() refuses them, less those
+# checked per simulation (CHECKED_FIELDS).  The model validator classifies them
+# from the headers' metadata (mjcffi/_modelcheck/fields.py).
 
 
 def index_field_error(name):
@@ -708,5 +679,5 @@ CHECKED_FIELDS = {"geom_condim": _check_condim, "pair_dim": _check_condim,
 # MjData fields bind() accepts, MjData fields rollout() records by name, and
 # MjModel fields expand() accepts: those mjb_expand accepts, less INDEX_FIELDS
 DATA_FIELDS, RECORD_FIELDS, _EXPANDABLE = _field_tables()
-INDEX_FIELDS = _index_fields(_EXPANDABLE, MjModel.from_xml_string("<mujoco/>"))
+INDEX_FIELDS = (_EXPANDABLE & _modelcheck.INDEX_FIELDS) - frozenset(CHECKED_FIELDS)
 MODEL_FIELDS = _EXPANDABLE - INDEX_FIELDS

@@ -12,13 +12,25 @@ named with folders under its bare name too.
 
 MuJoCo's first-party plugins are registered before the first load
 (mjcffi/plugins.py), so that models naming mujoco.pid and the others load.
+
+An MJB, from a file or from bytes (a pickle), is trusted in nothing: its byte
+count is checked against its sizes before MuJoCo allocates (mjcffi_check_mjb),
+and its model is checked by mjcffi/_modelcheck before MuJoCo loads it, so that a
+corrupted MJB is a ValueError naming the field, never a crash later.  The
+digests of the last MJBs found sound are kept, so that unpickling many MjData
+of one model checks the model once.
 """
 
+import hashlib
 import os
+import threading
+from collections import OrderedDict
+from collections.abc import Mapping
 
-from . import plugins
-from ._errors import with_note
+from . import _modelcheck, plugins
+from ._errors import FatalError, raise_pending, with_note
 from ._library import ffi, lib
+from ._views import guarded_result
 
 _ERROR_SIZE = 1024
 _XML_NAME = "model_.xml"      # the file name XML text gets inside a VFS, as the official's
@@ -47,8 +59,15 @@ def _asset_name(name):
     return text.replace("\\", "/").rsplit("/", 1)[-1].lower()
 
 
+def _check_assets(assets):
+    if assets is not None and not isinstance(assets, Mapping):
+        raise TypeError(f"assets must be a dict of file name -> bytes, not "
+                        f"{type(assets).__name__}")
+
+
 def _new_vfs(assets):
     """An mjVFS holding `assets` (name -> bytes), freed when collected."""
+    _check_assets(assets)
     vfs = ffi.gc(ffi.new("mjVFS *"), lib.mj_deleteVFS)
     lib.mj_defaultVFS(vfs)
     for name, content in (assets or {}).items():
@@ -87,6 +106,7 @@ def load_xml_path(path, assets=None, vfs=None):
     """Compile the MJCF/URDF file at `path`, reading other files from `assets`
     (name -> bytes) or `vfs` (an `mjVFS *`) where given."""
     raw = _fspath(path, "path")
+    _check_assets(assets)
     plugins.load_bundled()
     if vfs is None:
         vfs = _new_vfs(assets) if assets else ffi.NULL
@@ -115,14 +135,96 @@ def load_xml_string(xml, assets=None, vfs=None):
 
 
 def load_binary_path(path, assets=None, vfs=None):
-    """Load the MJB file at `path`, which may also name a file of `assets` or `vfs`."""
+    """Load the MJB file at `path`, which may also name a file of `assets` or `vfs`:
+    its bytes are read as mj_loadModel reads them, then loaded as load_binary_bytes."""
     raw = _fspath(path, "path")
-    plugins.load_bundled()
+    _check_assets(assets)
     if vfs is None:
         vfs = _new_vfs(assets) if assets else ffi.NULL
-    model = lib.mj_loadModel(raw, vfs)
-    if model == ffi.NULL:
-        raise with_note(ValueError("mj_loadModel: failed to load from mjb"),
+    message = "mj_loadModel: failed to load from mjb"
+    mjb = _read_resource(raw, vfs)
+    if mjb is None:
+        raise with_note(ValueError(message),
                         f"MuJoCo could not load {os.fsdecode(raw)!r}: it is missing, "
                         "unreadable, or not an MJB file of MuJoCo 4.0")
-    return ffi.gc(model, lib.mj_deleteModel)
+    return load_binary_bytes(mjb, message)
+
+
+def _read_resource(raw, vfs):
+    """The bytes of the file `raw` (from `vfs` when it holds it, else the disk), or None."""
+    error = ffi.new("char[]", _ERROR_SIZE)
+    resource = guarded_result(lib.mjcffi_guard_mju_openResource, b"", raw, vfs, error,
+                              _ERROR_SIZE)
+    if resource == ffi.NULL:
+        return None
+    try:
+        buffer = ffi.new("const void **")
+        size = guarded_result(lib.mjcffi_guard_mju_readResource, resource, buffer)
+        return ffi.buffer(buffer[0], size)[:] if size > 0 and buffer[0] != ffi.NULL else None
+    finally:
+        lib.mjcffi_guard_mju_closeResource(resource)
+        raise_pending()
+
+
+class _Sound:
+    """The SHA-256 digests of the last `size` MJBs found sound; finding one makes it
+    the newest."""
+
+    def __init__(self, size):
+        self._size = size
+        self._digests = OrderedDict()
+        self._lock = threading.Lock()
+
+    def __contains__(self, digest):
+        with self._lock:
+            if digest in self._digests:
+                self._digests.move_to_end(digest)
+                return True
+            return False
+
+    def add(self, digest):
+        with self._lock:
+            self._digests[digest] = None
+            while len(self._digests) > self._size:
+                self._digests.popitem(last=False)
+
+    def clear(self):
+        with self._lock:
+            self._digests.clear()
+
+
+SOUND = _Sound(64)
+
+
+def _check_mjb(mjb, message):
+    """ValueError with `message` and a note unless the MJB bytes hold a model MuJoCo can
+    load and simulate safely (mjcffi_check_mjb, then mjcffi/_modelcheck)."""
+    digest = hashlib.sha256(mjb).digest()     # collision-resistant: no forged "sound"
+    if digest in SOUND:
+        return
+    if lib.mjcffi_check_mjb(mjb, len(mjb), ffi.NULL, 0):    # before MuJoCo allocates
+        why = ffi.new("char[]", 160)
+        lib.mjcffi_check_mjb(mjb, len(mjb), why, len(why))
+        raise with_note(ValueError(message), ffi.string(why).decode("utf-8", "replace"))
+    problem = _modelcheck.mjb_problem(mjb)
+    if problem is not None:
+        raise with_note(ValueError(message), problem)
+    SOUND.add(digest)
+
+
+def load_binary_bytes(mjb, message):
+    """An mjModel from MJB bytes (immutable: what is checked is what MuJoCo loads),
+    owned by the garbage collector; a ValueError with `message` and a note naming
+    what is wrong when the bytes are no model MuJoCo can load and simulate safely."""
+    mjb = bytes(mjb)                # the same object when it is bytes already
+    plugins.load_bundled()          # a pickled model may use them
+    _check_mjb(mjb, message)
+    try:
+        root = guarded_result(lib.mjcffi_guard_mj_loadModelBuffer, mjb, len(mjb))
+    except FatalError as error:          # mju_error in MuJoCo's own checks
+        raise with_note(ValueError(message), f"MuJoCo: {error}") from None
+    if root == ffi.NULL:
+        raise with_note(ValueError(message), "MuJoCo refused it: a header, size or "
+                        "reference of another version, or out of range (its warning says "
+                        "which)")
+    return ffi.gc(root, lib.mj_deleteModel)

@@ -5,9 +5,8 @@ adds what MuJoCo cannot say in a header: how a model is loaded, copied and
 pickled.
 """
 
-from . import _loading, plugins
+from . import _loading
 from . import vfs as _vfs
-from ._errors import with_note
 from ._library import ffi, lib
 from ._views import guarded_result
 from .callbacks import _register_class, _track
@@ -71,19 +70,14 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
 
     @classmethod
     def from_bytes(cls, mjb):
-        """A model from MJB bytes, such as `to_bytes` returns."""
+        """A model from MJB bytes, such as `to_bytes` returns.
+
+        Bytes that are no model MuJoCo can load and simulate safely (a corrupted
+        pickle) raise ValueError, with a note naming the field and value that is
+        wrong (mjcffi/_modelcheck)."""
         if not isinstance(mjb, (bytes, bytearray, memoryview)):
             raise TypeError(f"mjb must be bytes, not {type(mjb).__name__}")
-        plugins.load_bundled()          # a pickled model may use them
-        mjb = bytes(mjb)
-        if lib.mjcffi_check_mjb(mjb, len(mjb), ffi.NULL, 0):    # before MuJoCo allocates
-            why = ffi.new("char[]", 160)
-            lib.mjcffi_check_mjb(mjb, len(mjb), why, len(why))
-            raise with_note(ValueError(_NOT_MJB), ffi.string(why).decode("utf-8", "replace"))
-        root = guarded_result(lib.mjcffi_guard_mj_loadModelBuffer, mjb, len(mjb))
-        if root == ffi.NULL:
-            raise ValueError(_NOT_MJB)
-        return cls._from_root(ffi.gc(root, lib.mj_deleteModel))
+        return cls._from_root(_loading.load_binary_bytes(bytes(mjb), _NOT_MJB))
 
     @property
     def _address(self):

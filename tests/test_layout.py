@@ -68,7 +68,7 @@ PACKAGE = Path(mjcffi.__file__).parent
 
 TABLES = {"_enums", "_constants", "_structinfo", "_funcinfo", "_namedinfo"}
 SUPPORT = {"_library", "_errors", "_views", "_marshal", "_arena", "_loading", "plugins",
-           "_stringtables", "callbacks", "named", "_simsupport",
+           "_stringtables", "callbacks", "named", "_simsupport", "_modelcheck",
            # not named in the README's list, and importing nothing of the package
            "_aliases", "scenes", "_machine", "_build"}
 GENERATED = {"_functions", "_simgetters", "structs"}
@@ -167,3 +167,15 @@ def test_codegen_is_never_imported_at_run_time():
                      [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level
                      else [])
             assert not any(n.split(".")[0] == "codegen" for n in names), dotted
+
+
+def test_every_subpackage_is_in_the_wheel():
+    # pyproject lists packages by hand: one left out installs in editable mode
+    # (as here) and is missing from a built wheel
+    import tomllib
+    pyproject = tomllib.loads((PACKAGE.parent / "pyproject.toml").read_text(encoding="utf-8"))
+    listed = set(pyproject["tool"]["setuptools"]["packages"])
+    found = {"mjcffi." + ".".join(p.parent.relative_to(PACKAGE).parts)
+             for p in PACKAGE.rglob("__init__.py")} | {"mjcffi"}
+    found = {name.rstrip(".") for name in found}
+    assert found == listed
