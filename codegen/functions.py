@@ -348,6 +348,30 @@ _ID_NAME = re.compile(r"^([a-z]+?)(?:_?id|exclude|[0-9])?$")
 # out here: (function, argument) -> why.  None does in MuJoCo 4.0.
 ENUM_EXCEPTIONS: dict = {}
 
+# Arguments declared `int` whose header comment names their enum ("font is mjtFont"):
+# checked as members of it too.  (function, argument) -> enum.
+ENUM_INTS = {
+    ("mjr_changeFont", "fontscale"): "mjtFontScale",   # MuJoCo frees the font, then fails
+    ("mjr_setBuffer", "framebuffer"): "mjtFramebuffer",
+    ("mjr_text", "font"): "mjtFont",
+    ("mjr_overlay", "font"): "mjtFont",
+    ("mjr_overlay", "gridpos"): "mjtGridPos",
+    ("mjr_label", "font"): "mjtFont",
+}
+
+# The mjr_* functions that draw with OpenGL (mjcffi/_mjr.py): the mjrContext they take
+# must have been made, not freed, in the OpenGL context current on this thread; those
+# without one need some context current and MuJoCo's OpenGL functions loaded.  Checked
+# after every argument.  The others of mjr_* make no OpenGL call.
+NO_OPENGL = frozenset({"mjr_defaultContext", "mjr_defaultRendererInfo", "mjr_getRendererInfo",
+                       "mjr_findRect"})
+
+
+def draws(name):
+    """Whether function `name` draws with OpenGL (see NO_OPENGL)."""
+    return name.startswith("mjr_") and name not in NO_OPENGL
+
+
 # Functions that write a model's flexes and skins into the buffers of their
 # mjvScene, or read them (MuJoCo does neither check): the scene must have been made
 # for a model of that flex and skin layout (mjcffi/structs/_checks.py, scene), or
@@ -467,6 +491,17 @@ CHECKS = {
     "mju_Halton": ["index(base, 2 ** 31, 'base', 2)"],     # it divides by base, loops on 1
     # mjOBJ_UNKNOWN throws a C++ exception through the C API: the process aborts
     "mjs_firstElement": ["require(type != 0, 'type must not be mjOBJ_UNKNOWN')"],
+    # the renderer (mjcffi/_mjr.py): what MuJoCo follows in the scene, figure and text
+    "mjr_render": ["render_scene(@scn, scn, @con, con)"],
+    "mjr_figure": ["figure_fields(fig)"],
+    "mjr_text": ["ascii_text(c_txt, 'txt')"],
+    "mjr_label": ["ascii_text(c_txt, 'txt')"],
+    "mjr_overlay": ["overlay_text(c_overlay, 'overlay')", "overlay_text(c_overlay2, 'overlay2')"],
+    "mjr_resizeOffscreen": ["count(width, 'width')", "count(height, 'height')"],
+    "mjr_blitBuffer": ["rect_fits(src, 'src')", "rect_fits(dst, 'dst')"],
+    "mjr_blitAux": ["rect_fits(src, 'src')"],
+    **{name: ["same_model(m, @con)"] for name in (
+        "mjr_uploadTexture", "mjr_uploadMesh", "mjr_uploadHField")},
 }
 
 # (char *error, int error_sz) pairs: the buffer is made here and the Python
@@ -519,6 +554,7 @@ NULLABLE = {
     "mj_addFileVFS": ("directory",),           # functions_override.rst says Nullable
     "mju_standardNormal": ("num2",),
     "mjv_updateScene": ("pert",),              # the official bindings pass NULL too
+    "mjr_overlay": ("overlay2",),              # `if (overlay2 && overlay2[0])`; official: None
 }
 
 # Pointers the header marks `Nullable:` that MuJoCo dereferences all the same (the
@@ -547,6 +583,13 @@ OVERRIDES = {
     "mj_printSchema": "mj_printSchema(flg_html, flg_pad) returns str, as the official bindings",
     "mjs_getDouble": "returns a NumPy copy of the vector",
     "mjr_findRect": "rect is one MjrRect or a sequence of them",
+    "mjr_makeContext": "makes con in the current OpenGL context and records it (mjcffi/_mjr.py)",
+    "mjr_freeContext": "frees con as MjrContext.free() does: OpenGL objects only in their "
+                       "own context",
+    "mjr_readPixels": "rgb and depth: output arrays of at least the viewport's pixels (any "
+                      "shape, (h, w, 3) and (h, w) included) or None, as the official bindings",
+    "mjr_drawPixels": "rgb and depth: input arrays of at least the viewport's pixels or None, "
+                      "as the official bindings",
     "mj_defaultVFS": "resets the VFS, freeing what it held (an MjVFS owns its memory)",
     "mj_deleteVFS": "empties the VFS, which stays usable (an MjVFS frees it when collected)",
     "mju_getLogConfig": "returns the public MjLogConfig class, which has get() and set()",
@@ -563,7 +606,9 @@ OVERRIDES = {
     "mju_free": "frees only what mju_malloc returned, once",
 }
 
-_GL = "needs a current OpenGL context, which mjcffi does not create yet"
+_UI = ("MuJoCo's UI needs a window: an mjUI laid out by mjui_add (itself unsupported) and "
+       "an mjuiState of mouse and keyboard events from a windowing library, drawn into the "
+       "window's framebuffer; mjcffi renders offscreen only")
 _BATCH = ("the batch API hands out an opaque mjBatch and buffers it owns: use "
           "mjcffi.batch.Batch (from mjcffi import batch)")
 _RESOURCE = "mjResource handles are opened and closed by resource providers in C"
@@ -604,14 +649,7 @@ UNSUPPORTED = {
     **{name: _RESOURCE for name in (
         "mju_openResource", "mju_closeResource", "mju_readResource", "mju_getResourceDir",
         "mju_isModifiedResource", "mju_decodeResource", "mjp_findDecoder")},
-    **{name: _GL for name in (
-        "mjr_makeContext", "mjr_freeContext", "mjr_getRendererInfo", "mjr_changeFont",
-        "mjr_addAux", "mjr_resizeOffscreen", "mjr_uploadTexture", "mjr_uploadMesh",
-        "mjr_uploadHField", "mjr_restoreBuffer", "mjr_setBuffer", "mjr_readPixels",
-        "mjr_drawPixels", "mjr_blitBuffer", "mjr_setAux", "mjr_blitAux", "mjr_text",
-        "mjr_overlay", "mjr_rectangle", "mjr_label", "mjr_figure", "mjr_render",
-        "mjr_finish", "mjr_getError", "mjr_maxViewport", "mjui_resize", "mjui_update", "mjui_event",
-        "mjui_render")},
+    **{name: _UI for name in ("mjui_resize", "mjui_update", "mjui_event", "mjui_render")},
     **{name: _BATCH for name in (
         "mjb_makeBatch", "mjb_deleteBatch", "mjb_nstate", "mjb_state", "mjb_stateComponent",
         "mjb_warning", "mjb_step", "mjb_forward", "mjb_reset", "mjb_status", "mjb_error",
@@ -622,7 +660,11 @@ UNSUPPORTED = {
 
 # Helpers of mjcffi/_marshal.py that SHAPES, CHECKS and RETURNS may call.
 _HELPERS = ("state_size", "band_size", "csr", "below", "require", "object_id", "index",
-            "copy_array", "fill", "camera", "model_of", "NULL", "NUM")
+            "copy_array", "fill", "camera", "model_of", "NULL", "NUM", "count")
+
+# Helpers of mjcffi/_mjr.py (the renderer's checks) that CHECKS may call.
+_RENDER_HELPERS = ("render_scene", "figure_fields", "ascii_text", "overlay_text", "same_model",
+                   "rect_fits")
 
 # C element type of a numeric array -> its Elem in mjcffi/_marshal.py.
 _ELEMS = {"mjtNum": "NUM", "double": "NUM", "float": "FLOAT", "int": "INT",
@@ -638,6 +680,7 @@ raw C function.
 """
 
 from . import _marshal as _m
+from . import _mjr as _r
 from . import structs as _structs
 from ._library import lib as _lib
 from .structs import _checks as _c
@@ -752,9 +795,11 @@ class _Exprs:
                 return name                         # an attribute: m.nv stays .nv
             if name in self.struct_names:
                 return "c_" + name
-            if name in _HELPERS and (name.isupper() or
-                                     match.string[match.end():].lstrip().startswith("(")):
+            call = match.string[match.end():].lstrip().startswith("(")
+            if name in _HELPERS and (name.isupper() or call):
                 return "_m." + name                 # a helper call, or NULL / NUM
+            if name in _RENDER_HELPERS and call:
+                return "_r." + name
             if name in self.constants:
                 return str(self.constants[name])
             return name
@@ -1011,10 +1056,41 @@ class _Function:
         self._arrays(sizes)
         for statement in CHECKS.get(self.name, ()):
             self.emit(self.expr(statement))
+        if draws(self.name):
+            self._opengl_check()
         if errors:
             self.emit("error, error_sz = _m.error_buffer()")
         self._call(errors, omit)
         return params
+
+    def _opengl_check(self):
+        """The mjrContext was made, in the OpenGL context current now (mjcffi/_mjr.py);
+        without one, some context is current.  When it fails, a wrong scalar (which only
+        the call itself converts) is named instead."""
+        con = next((a for a in self.args if a.kind == "struct" and a.base == "mjrContext"),
+                   None)
+        if con is None:
+            check = f'_r.gl_ready("{self.name}")'
+            self.notes.append("An OpenGL context must be current, and an MjrContext made "
+                              "(FatalError otherwise).")
+        else:
+            check = f'_r.context({con.py}, "{con.py}", "{self.name}")'
+            self.notes.append(f"{con.py} must be an MjrContext made (not freed) in the "
+                              f"OpenGL context current on this thread (ValueError, "
+                              f"FatalError otherwise).")
+        scalars = [a for a in self.args if a.kind == "scalar"]
+        if not scalars:
+            self.emit(check)
+            return
+        entries = [f'"{a.py}": ("{a.decl}", {a.py})' for a in scalars]
+        self.emit("try:")
+        self.emit(f"    {check}")
+        self.emit("except (TypeError, ValueError, _m.FatalError):")
+        self.emit("    " + _wrapped(f'bad = _m.bad_scalar("{self.name}", {{', entries, "})",
+                                    "        "))
+        self.emit("    if bad is not None:")
+        self.emit("        raise bad from None")
+        self.emit("    raise")
 
     def _scene_check(self):
         """The scene must be made for a model of the call's flex and skin layout."""
@@ -1278,7 +1354,8 @@ def generate(decls, notes, described, header_texts):
     constants = _defines(header_texts, decls)
     for table in (SHAPES, KEEP, BOUNDS, CHECKS, ERRORS, RETURNS, OWNED, RENAMES, OMIT,
                   NULLABLE, NOT_NULLABLE, OVERRIDES, UNSUPPORTED, MESSAGES, SIZED, BIND,
-                  SCENES, {f for f, _ in ID_EXCEPTIONS}, {f for f, _ in ENUM_EXCEPTIONS}):
+                  SCENES, {f for f, _ in ID_EXCEPTIONS}, {f for f, _ in ENUM_EXCEPTIONS},
+                  {f for f, _ in ENUM_INTS}, NO_OPENGL):
         unknown = set(table) - set(decls.functions)
         if unknown:
             raise ValueError(f"special-case table names unknown functions {sorted(unknown)}")
@@ -1294,6 +1371,10 @@ def generate(decls, notes, described, header_texts):
     ids = derive_ids(decls, notes, set(OVERRIDES) | set(UNSUPPORTED))
     IDS._table = ids
     enums = derive_enums(decls, set(OVERRIDES) | set(UNSUPPORTED))
+    for (name, arg), enum in ENUM_INTS.items():
+        if arg not in {a.name for a in decls.functions[name].args} or enum not in decls.enums:
+            raise ValueError(f"ENUM_INTS[{name}, {arg}]: no such argument or enum {enum}")
+        enums.setdefault(name, {})[arg] = enum
     blocks = []
     for name, func in decls.functions.items():
         note = notes.functions.get(name)

@@ -110,6 +110,10 @@ _MAKE_WITHOUT_ARGUMENTS = {"mjvScene"}
 # write the model into it check (codegen/functions.py, SCENES).
 _MADE_FOR = {"mjvScene": "made_for"}
 
+# Made in the OpenGL context current on the calling thread: mjcffi/_mjr.py makes and
+# frees them, and records that context, which the mjr_* functions check.
+_GL_MADE = {"mjrContext"}
+
 # Pointer fields to another struct of the same spec (MjsBody.element,
 # mjsDefault.joint): a wrapper that keeps the spec alive, not a raw pointer.
 _SPEC_STRUCT = re.compile(r"^(mjSpec|mjs[A-Z]\w*)$")
@@ -488,6 +492,8 @@ def _constructor(ctx, struct):
                 ""]
     default, _ = ctx.function("default", struct, nargs=1)
     make, made = ctx.function("make", struct)
+    if struct in _GL_MADE:
+        return _gl_constructor(struct)
     if make is not None and make.restype.decl == "void":
         return _make_constructor(ctx, struct, default, make, made)
     init = f"lib.{default.name}(root)" if default is not None else _INITIALIZERS.get(struct)
@@ -539,6 +545,48 @@ def _make_constructor(ctx, struct, default, make, made):
                      f"else {model}._ptr)")
     lines.append("")
     return lines
+
+
+def _gl_constructor(struct):
+    """__init__, free() and __repr__ of an mjrContext: made and freed through
+    mjcffi/_mjr.py, which records the OpenGL context it was made in."""
+    pycls = class_name(struct)
+    return [
+        "    def __init__(self, model=None, fontscale=None):",
+        f'        """{pycls}() is default-initialized: it cannot draw.  {pycls}(model, '
+        'fontscale)',
+        "        is made by mjr_makeContext in the OpenGL context current on this thread "
+        "(FatalError",
+        "        if none is: make a GLContext current first), and freed by free() or when "
+        "collected.",
+        "",
+        "        Every mjr_* function checks that it was made and not freed, and that the "
+        "OpenGL",
+        "        context it was made in is current (mjcffi/_mjr.py).",
+        '        """',
+        "        if len({x is None for x in (model, fontscale)}) > 1:",
+        "            raise TypeError(" + repr(f"{pycls} takes model and fontscale together, "
+                                             "or none of them") + ")",
+        "        root, record = new_context()",
+        "        if model is not None:",
+        "            make_context(root, record, struct_pointer(model, 'mjModel', 'model'),",
+        "                         int_argument(fontscale, 'fontscale', 'int'))",
+        "        self._init_root(root, _mjr=record)",
+        "",
+        "    def free(self):",
+        '        """Free its OpenGL resources now (mjr_freeContext), as the official '
+        'free(); it is',
+        "        then default, and the mjr_* functions refuse it.  Freeing again does "
+        "nothing.  With",
+        "        another OpenGL context current (or none), only MuJoCo's memory is freed "
+        "here: its",
+        '        OpenGL objects go with the context they were made in."""',
+        "        release_context(self._ptr, self._mjr)",
+        "",
+        "    def __repr__(self):",
+        "        return context_repr(self, super().__repr__())",
+        "",
+    ]
 
 
 def _field_constructor(struct):
@@ -694,7 +742,9 @@ def _imports(body):
         line = "from .._views import (" + "\n                      ".join(wrapped) + ")"
     lines.append(line)
     for module, names in (("_checks", sorted(set(_MADE_FOR.values()))),
-                          ("_handles", ("handle_field", "struct_ref"))):
+                          ("_handles", ("handle_field", "struct_ref")),
+                          ("._mjr", ("context_repr", "make_context", "new_context",
+                                     "release_context"))):
         used = [n for n in names if re.search(rf"\b{n}\(", text)]
         if used:
             lines.append(f"from .{module} import {', '.join(used)}")

@@ -9,6 +9,7 @@ raw C function.
 """
 
 from . import _marshal as _m
+from . import _mjr as _r
 from . import structs as _structs
 from ._library import lib as _lib
 from .structs import _checks as _c
@@ -17,6 +18,10 @@ from ._arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official p
 
 # the values of the C enums that arguments are declared as (derive_enums)
 _ENUMS = {
+    "mjtFont": frozenset((0, 1, 2)),
+    "mjtFontScale": frozenset((50, 100, 150, 200, 250, 300)),
+    "mjtFramebuffer": frozenset((0, 1)),
+    "mjtGridPos": frozenset((0, 1, 2, 3, 4, 5, 6, 7)),
     "mjtMeshBuiltin": frozenset((0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13)),
     "mjtObj": frozenset((
         0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24,
@@ -2802,24 +2807,10 @@ def mjr_getRendererInfo(info):
     """mjr_getRendererInfo(info: mujoco._structs.MjrRendererInfo) -> None
 
 Get active renderer information.
-
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_getRendererInfo.
 """
-    raise NotImplementedError(
-        'mjr_getRendererInfo: needs a current OpenGL context, which mjcffi does not create yet')
-
-
-def mjr_makeContext(m, con, fontscale):
-    """mjr_makeContext(m: mujoco._structs.MjModel, con: mujoco._structs.MjrContext, fontscale: int) -> None
-
-Allocate resources in custom OpenGL context; fontscale is mjtFontScale.
-
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_makeContext.
-"""
-    raise NotImplementedError(
-        'mjr_makeContext: needs a current OpenGL context, which mjcffi does not create yet')
+    c_info = _m.struct(info, "mjrRendererInfo", "info")
+    status = _lib.mjcffi_guard_mjr_getRendererInfo(c_info)
+    _m.check(status)
 
 
 def mjr_changeFont(fontscale, con):
@@ -2827,11 +2818,24 @@ def mjr_changeFont(fontscale, con):
 
 Change font of existing context.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_changeFont.
+fontscale must be a value of mjtFontScale.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_changeFont: needs a current OpenGL context, which mjcffi does not create yet')
+    c_con = _m.struct(con, "mjrContext", "con")
+    if fontscale.__class__ is not int or fontscale not in _ENUMS["mjtFontScale"]:
+        fontscale = _c.enum_value(fontscale, _ENUMS["mjtFontScale"], "fontscale", "mjtFontScale")
+    try:
+        _r.context(con, "con", "mjr_changeFont")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_changeFont", {"fontscale": ("int", fontscale)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_changeFont(fontscale, c_con)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_changeFont", {"fontscale": ("int", fontscale)}) from None
+    _m.check(status)
 
 
 def mjr_addAux(index, width, height, samples, con):
@@ -2839,23 +2843,25 @@ def mjr_addAux(index, width, height, samples, con):
 
 Add Aux buffer with given index to context; free previous Aux buffer.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_addAux.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_addAux: needs a current OpenGL context, which mjcffi does not create yet')
-
-
-def mjr_freeContext(con):
-    """mjr_freeContext(con: mujoco._structs.MjrContext) -> None
-
-Free resources in custom OpenGL context, set to default.
-
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_freeContext.
-"""
-    raise NotImplementedError(
-        'mjr_freeContext: needs a current OpenGL context, which mjcffi does not create yet')
+    c_con = _m.struct(con, "mjrContext", "con")
+    try:
+        _r.context(con, "con", "mjr_addAux")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_addAux", {
+            "index": ("int", index), "width": ("int", width), "height": ("int", height),
+            "samples": ("int", samples)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_addAux(index, width, height, samples, c_con)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_addAux", {
+            "index": ("int", index), "width": ("int", width), "height": ("int", height),
+            "samples": ("int", samples)}) from None
+    _m.check(status)
 
 
 def mjr_resizeOffscreen(width, height, con):
@@ -2863,11 +2869,25 @@ def mjr_resizeOffscreen(width, height, con):
 
 Resize offscreen buffers.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_resizeOffscreen.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_resizeOffscreen: needs a current OpenGL context, which mjcffi does not create yet')
+    c_con = _m.struct(con, "mjrContext", "con")
+    _m.count(width, 'width')
+    _m.count(height, 'height')
+    try:
+        _r.context(con, "con", "mjr_resizeOffscreen")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_resizeOffscreen", {
+            "width": ("int", width), "height": ("int", height)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_resizeOffscreen(width, height, c_con)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_resizeOffscreen", {
+            "width": ("int", width), "height": ("int", height)}) from None
+    _m.check(status)
 
 
 def mjr_uploadTexture(m, con, texid):
@@ -2876,11 +2896,26 @@ def mjr_uploadTexture(m, con, texid):
 Upload texture to GPU, overwriting previous upload if any. A by-reference texture (tex_adr == -1)
 is decoded with mj_loadTexture.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_uploadTexture.
+texid must be within 0..ntex-1.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_uploadTexture: needs a current OpenGL context, which mjcffi does not create yet')
+    c_m = _m.struct(m, "mjModel", "m")
+    c_con = _m.struct(con, "mjrContext", "con")
+    if texid.__class__ is not int or not 0 <= texid < c_m.ntex:
+        texid = _m.index(texid, c_m.ntex, "texid", 0)
+    _r.same_model(c_m, con)
+    try:
+        _r.context(con, "con", "mjr_uploadTexture")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_uploadTexture", {"texid": ("int", texid)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_uploadTexture(c_m, c_con, texid)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_uploadTexture", {"texid": ("int", texid)}) from None
+    _m.check(status)
 
 
 def mjr_uploadMesh(m, con, meshid):
@@ -2888,11 +2923,26 @@ def mjr_uploadMesh(m, con, meshid):
 
 Upload mesh to GPU, overwriting previous upload if any.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_uploadMesh.
+meshid must be within 0..nmesh-1.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_uploadMesh: needs a current OpenGL context, which mjcffi does not create yet')
+    c_m = _m.struct(m, "mjModel", "m")
+    c_con = _m.struct(con, "mjrContext", "con")
+    if meshid.__class__ is not int or not 0 <= meshid < c_m.nmesh:
+        meshid = _m.index(meshid, c_m.nmesh, "meshid", 0)
+    _r.same_model(c_m, con)
+    try:
+        _r.context(con, "con", "mjr_uploadMesh")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_uploadMesh", {"meshid": ("int", meshid)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_uploadMesh(c_m, c_con, meshid)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_uploadMesh", {"meshid": ("int", meshid)}) from None
+    _m.check(status)
 
 
 def mjr_uploadHField(m, con, hfieldid):
@@ -2900,11 +2950,26 @@ def mjr_uploadHField(m, con, hfieldid):
 
 Upload height field to GPU, overwriting previous upload if any.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_uploadHField.
+hfieldid must be within 0..nhfield-1.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_uploadHField: needs a current OpenGL context, which mjcffi does not create yet')
+    c_m = _m.struct(m, "mjModel", "m")
+    c_con = _m.struct(con, "mjrContext", "con")
+    if hfieldid.__class__ is not int or not 0 <= hfieldid < c_m.nhfield:
+        hfieldid = _m.index(hfieldid, c_m.nhfield, "hfieldid", 0)
+    _r.same_model(c_m, con)
+    try:
+        _r.context(con, "con", "mjr_uploadHField")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_uploadHField", {"hfieldid": ("int", hfieldid)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_uploadHField(c_m, c_con, hfieldid)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_uploadHField", {"hfieldid": ("int", hfieldid)}) from None
+    _m.check(status)
 
 
 def mjr_restoreBuffer(con):
@@ -2912,11 +2977,12 @@ def mjr_restoreBuffer(con):
 
 Make con->currentBuffer current again.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_restoreBuffer.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_restoreBuffer: needs a current OpenGL context, which mjcffi does not create yet')
+    c_con = _m.struct(con, "mjrContext", "con")
+    _r.context(con, "con", "mjr_restoreBuffer")
+    status = _lib.mjcffi_guard_mjr_restoreBuffer(c_con)
+    _m.check(status)
 
 
 def mjr_setBuffer(framebuffer, con):
@@ -2925,37 +2991,24 @@ def mjr_setBuffer(framebuffer, con):
 Set OpenGL framebuffer for rendering: mjFB_WINDOW or mjFB_OFFSCREEN.
 If only one buffer is available, set that buffer and ignore framebuffer argument.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_setBuffer.
+framebuffer must be a value of mjtFramebuffer.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_setBuffer: needs a current OpenGL context, which mjcffi does not create yet')
-
-
-def mjr_readPixels(rgb, depth, viewport, con):
-    """mjr_readPixels(rgb: numpy.typing.NDArray[numpy.uint8], depth: numpy.typing.NDArray[numpy.float32], viewport: mujoco._structs.MjrRect, con: mujoco._structs.MjrContext) -> None
-
-Read pixels from current OpenGL framebuffer to client buffer.
-Viewport is in OpenGL framebuffer; client buffer starts at (0,0).
-
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_readPixels.
-"""
-    raise NotImplementedError(
-        'mjr_readPixels: needs a current OpenGL context, which mjcffi does not create yet')
-
-
-def mjr_drawPixels(rgb, depth, viewport, con):
-    """mjr_drawPixels(rgb: numpy.typing.NDArray[numpy.uint8], depth: numpy.typing.NDArray[numpy.float32], viewport: mujoco._structs.MjrRect, con: mujoco._structs.MjrContext) -> None
-
-Draw pixels from client buffer to current OpenGL framebuffer.
-Viewport is in OpenGL framebuffer; client buffer starts at (0,0).
-
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_drawPixels.
-"""
-    raise NotImplementedError(
-        'mjr_drawPixels: needs a current OpenGL context, which mjcffi does not create yet')
+    c_con = _m.struct(con, "mjrContext", "con")
+    if framebuffer.__class__ is not int or framebuffer not in _ENUMS["mjtFramebuffer"]:
+        framebuffer = _c.enum_value(framebuffer, _ENUMS["mjtFramebuffer"], "framebuffer", "mjtFramebuffer")
+    try:
+        _r.context(con, "con", "mjr_setBuffer")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_setBuffer", {"framebuffer": ("int", framebuffer)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_setBuffer(framebuffer, c_con)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_setBuffer", {"framebuffer": ("int", framebuffer)}) from None
+    _m.check(status)
 
 
 def mjr_blitBuffer(src, dst, flg_color, flg_depth, con):
@@ -2964,11 +3017,27 @@ def mjr_blitBuffer(src, dst, flg_color, flg_depth, con):
 Blit from src viewpoint in current framebuffer to dst viewport in other framebuffer.
 If src, dst have different size and flg_depth==0, color is interpolated with GL_LINEAR.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_blitBuffer.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_blitBuffer: needs a current OpenGL context, which mjcffi does not create yet')
+    c_src = _m.struct_value(src, "mjrRect", "src")
+    c_dst = _m.struct_value(dst, "mjrRect", "dst")
+    c_con = _m.struct(con, "mjrContext", "con")
+    _r.rect_fits(c_src, 'src')
+    _r.rect_fits(c_dst, 'dst')
+    try:
+        _r.context(con, "con", "mjr_blitBuffer")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_blitBuffer", {
+            "flg_color": ("int", flg_color), "flg_depth": ("int", flg_depth)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_blitBuffer(c_src, c_dst, flg_color, flg_depth, c_con)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_blitBuffer", {
+            "flg_color": ("int", flg_color), "flg_depth": ("int", flg_depth)}) from None
+    _m.check(status)
 
 
 def mjr_setAux(index, con):
@@ -2976,11 +3045,21 @@ def mjr_setAux(index, con):
 
 Set Aux buffer for custom OpenGL rendering (call restoreBuffer when done).
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_setAux.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_setAux: needs a current OpenGL context, which mjcffi does not create yet')
+    c_con = _m.struct(con, "mjrContext", "con")
+    try:
+        _r.context(con, "con", "mjr_setAux")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_setAux", {"index": ("int", index)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_setAux(index, c_con)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_setAux", {"index": ("int", index)}) from None
+    _m.check(status)
 
 
 def mjr_blitAux(index, src, left, bottom, con):
@@ -2988,11 +3067,25 @@ def mjr_blitAux(index, src, left, bottom, con):
 
 Blit from Aux buffer to con->currentBuffer.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_blitAux.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_blitAux: needs a current OpenGL context, which mjcffi does not create yet')
+    c_src = _m.struct_value(src, "mjrRect", "src")
+    c_con = _m.struct(con, "mjrContext", "con")
+    _r.rect_fits(c_src, 'src')
+    try:
+        _r.context(con, "con", "mjr_blitAux")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_blitAux", {
+            "index": ("int", index), "left": ("int", left), "bottom": ("int", bottom)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_blitAux(index, c_src, left, bottom, c_con)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_blitAux", {
+            "index": ("int", index), "left": ("int", left), "bottom": ("int", bottom)}) from None
+    _m.check(status)
 
 
 def mjr_text(font, txt, con, x, y, r, g, b):
@@ -3000,35 +3093,79 @@ def mjr_text(font, txt, con, x, y, r, g, b):
 
 Draw text at (x,y) in relative coordinates; font is mjtFont.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_text.
+font must be a value of mjtFont.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_text: needs a current OpenGL context, which mjcffi does not create yet')
+    c_con = _m.struct(con, "mjrContext", "con")
+    c_txt = _m.text(txt, "txt")
+    if font.__class__ is not int or font not in _ENUMS["mjtFont"]:
+        font = _c.enum_value(font, _ENUMS["mjtFont"], "font", "mjtFont")
+    _r.ascii_text(c_txt, 'txt')
+    try:
+        _r.context(con, "con", "mjr_text")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_text", {
+            "font": ("int", font), "x": ("float", x), "y": ("float", y), "r": ("float", r),
+            "g": ("float", g), "b": ("float", b)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_text(font, c_txt, c_con, x, y, r, g, b)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_text", {
+            "font": ("int", font), "x": ("float", x), "y": ("float", y), "r": ("float", r),
+            "g": ("float", g), "b": ("float", b)}) from None
+    _m.check(status)
 
 
 def mjr_overlay(font, gridpos, viewport, overlay, overlay2, con):
-    """mjr_overlay(font: int, gridpos: int, viewport: mujoco._structs.MjrRect, overlay: str, overlay2: str, con: mujoco._structs.MjrContext) -> None
+    """mjr_overlay(font: int, gridpos: int, viewport: mujoco._structs.MjrRect, overlay: str, overlay2: str | None, con: mujoco._structs.MjrContext) -> None
 
 Draw text overlay; font is mjtFont; gridpos is mjtGridPos.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_overlay.
+font must be a value of mjtFont.
+gridpos must be a value of mjtGridPos.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_overlay: needs a current OpenGL context, which mjcffi does not create yet')
+    c_viewport = _m.struct_value(viewport, "mjrRect", "viewport")
+    c_con = _m.struct(con, "mjrContext", "con")
+    c_overlay = _m.text(overlay, "overlay")
+    c_overlay2 = _m.opt_text(overlay2, "overlay2")
+    if font.__class__ is not int or font not in _ENUMS["mjtFont"]:
+        font = _c.enum_value(font, _ENUMS["mjtFont"], "font", "mjtFont")
+    if gridpos.__class__ is not int or gridpos not in _ENUMS["mjtGridPos"]:
+        gridpos = _c.enum_value(gridpos, _ENUMS["mjtGridPos"], "gridpos", "mjtGridPos")
+    _r.overlay_text(c_overlay, 'overlay')
+    _r.overlay_text(c_overlay2, 'overlay2')
+    try:
+        _r.context(con, "con", "mjr_overlay")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_overlay", {"font": ("int", font), "gridpos": ("int", gridpos)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_overlay(
+            font, gridpos, c_viewport, c_overlay, c_overlay2, c_con)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_overlay", {
+            "font": ("int", font), "gridpos": ("int", gridpos)}) from None
+    _m.check(status)
 
 
 def mjr_maxViewport(con):
-    """mjr_maxViewport(con: mujoco._structs.MjrContext) -> None
+    """mjr_maxViewport(con: mujoco._structs.MjrContext) -> mujoco._structs.MjrRect
 
 Get maximum viewport for active buffer.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_maxViewport.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_maxViewport: needs a current OpenGL context, which mjcffi does not create yet')
+    c_con = _m.struct(con, "mjrContext", "con")
+    _r.context(con, "con", "mjr_maxViewport")
+    ret = _lib.mjcffi_guard_mjr_maxViewport(c_con)
+    _m.check_error()
+    return _m.struct_copy(_structs.MjrRect, ret)
 
 
 def mjr_rectangle(viewport, r, g, b, a):
@@ -3036,11 +3173,23 @@ def mjr_rectangle(viewport, r, g, b, a):
 
 Draw rectangle.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_rectangle.
+An OpenGL context must be current, and an MjrContext made (FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_rectangle: needs a current OpenGL context, which mjcffi does not create yet')
+    c_viewport = _m.struct_value(viewport, "mjrRect", "viewport")
+    try:
+        _r.gl_ready("mjr_rectangle")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_rectangle", {
+            "r": ("float", r), "g": ("float", g), "b": ("float", b), "a": ("float", a)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_rectangle(c_viewport, r, g, b, a)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_rectangle", {
+            "r": ("float", r), "g": ("float", g), "b": ("float", b), "a": ("float", a)}) from None
+    _m.check(status)
 
 
 def mjr_label(viewport, font, txt, r, g, b, a, rt, gt, bt, con):
@@ -3048,11 +3197,31 @@ def mjr_label(viewport, font, txt, r, g, b, a, rt, gt, bt, con):
 
 Draw rectangle with centered text.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_label.
+font must be a value of mjtFont.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_label: needs a current OpenGL context, which mjcffi does not create yet')
+    c_viewport = _m.struct_value(viewport, "mjrRect", "viewport")
+    c_con = _m.struct(con, "mjrContext", "con")
+    c_txt = _m.text(txt, "txt")
+    if font.__class__ is not int or font not in _ENUMS["mjtFont"]:
+        font = _c.enum_value(font, _ENUMS["mjtFont"], "font", "mjtFont")
+    _r.ascii_text(c_txt, 'txt')
+    try:
+        _r.context(con, "con", "mjr_label")
+    except (TypeError, ValueError, _m.FatalError):
+        bad = _m.bad_scalar("mjr_label", {
+            "font": ("int", font), "r": ("float", r), "g": ("float", g), "b": ("float", b),
+            "a": ("float", a), "rt": ("float", rt), "gt": ("float", gt), "bt": ("float", bt)})
+        if bad is not None:
+            raise bad from None
+        raise
+    try:
+        status = _lib.mjcffi_guard_mjr_label(c_viewport, font, c_txt, r, g, b, a, rt, gt, bt, c_con)
+    except (TypeError, OverflowError) as exc:
+        raise _m.scalar_error(exc, "mjr_label", {
+            "font": ("int", font), "r": ("float", r), "g": ("float", g), "b": ("float", b),
+            "a": ("float", a), "rt": ("float", rt), "gt": ("float", gt), "bt": ("float", bt)}) from None
+    _m.check(status)
 
 
 def mjr_figure(viewport, fig, con):
@@ -3060,11 +3229,15 @@ def mjr_figure(viewport, fig, con):
 
 Draw 2D figure.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_figure.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_figure: needs a current OpenGL context, which mjcffi does not create yet')
+    c_viewport = _m.struct_value(viewport, "mjrRect", "viewport")
+    c_fig = _m.struct(fig, "mjvFigure", "fig")
+    c_con = _m.struct(con, "mjrContext", "con")
+    _r.figure_fields(c_fig)
+    _r.context(con, "con", "mjr_figure")
+    status = _lib.mjcffi_guard_mjr_figure(c_viewport, c_fig, c_con)
+    _m.check(status)
 
 
 def mjr_render(viewport, scn, con):
@@ -3072,11 +3245,15 @@ def mjr_render(viewport, scn, con):
 
 Render 3D scene.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_render.
+con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_render: needs a current OpenGL context, which mjcffi does not create yet')
+    c_viewport = _m.struct_value(viewport, "mjrRect", "viewport")
+    c_scn = _m.struct(scn, "mjvScene", "scn")
+    c_con = _m.struct(con, "mjrContext", "con")
+    _r.render_scene(scn, c_scn, con, c_con)
+    _r.context(con, "con", "mjr_render")
+    status = _lib.mjcffi_guard_mjr_render(c_viewport, c_scn, c_con)
+    _m.check(status)
 
 
 def mjr_finish():
@@ -3084,23 +3261,24 @@ def mjr_finish():
 
 Call glFinish.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_finish.
+An OpenGL context must be current, and an MjrContext made (FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_finish: needs a current OpenGL context, which mjcffi does not create yet')
+    _r.gl_ready("mjr_finish")
+    status = _lib.mjcffi_guard_mjr_finish()
+    _m.check(status)
 
 
 def mjr_getError():
-    """mjr_getError() -> None
+    """mjr_getError() -> int
 
 Call glGetError and return result.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
-The raw C function is mjcffi.lib.mjr_getError.
+An OpenGL context must be current, and an MjrContext made (FatalError otherwise).
 """
-    raise NotImplementedError(
-        'mjr_getError: needs a current OpenGL context, which mjcffi does not create yet')
+    _r.gl_ready("mjr_getError")
+    ret = _lib.mjcffi_guard_mjr_getError()
+    _m.check_error()
+    return ret
 
 
 def mjui_themeSpacing(ind):
@@ -3158,11 +3336,13 @@ def mjui_resize(ui, con):
 
 Compute UI sizes.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+Not available in mjcffi: MuJoCo's UI needs a window: an mjUI laid out by mjui_add (itself
+unsupported) and an mjuiState of mouse and keyboard events from a windowing library, drawn
+into the window's framebuffer; mjcffi renders offscreen only.
 The raw C function is mjcffi.lib.mjui_resize.
 """
     raise NotImplementedError(
-        'mjui_resize: needs a current OpenGL context, which mjcffi does not create yet')
+        "mjui_resize: MuJoCo's UI needs a window: an mjUI laid out by mjui_add (itself unsupported) and an mjuiState of mouse and keyboard events from a windowing library, drawn into the window's framebuffer; mjcffi renders offscreen only")
 
 
 def mjui_update(section, item, ui, state, con):
@@ -3170,11 +3350,13 @@ def mjui_update(section, item, ui, state, con):
 
 Update specific section/item; -1: update all.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+Not available in mjcffi: MuJoCo's UI needs a window: an mjUI laid out by mjui_add (itself
+unsupported) and an mjuiState of mouse and keyboard events from a windowing library, drawn
+into the window's framebuffer; mjcffi renders offscreen only.
 The raw C function is mjcffi.lib.mjui_update.
 """
     raise NotImplementedError(
-        'mjui_update: needs a current OpenGL context, which mjcffi does not create yet')
+        "mjui_update: MuJoCo's UI needs a window: an mjUI laid out by mjui_add (itself unsupported) and an mjuiState of mouse and keyboard events from a windowing library, drawn into the window's framebuffer; mjcffi renders offscreen only")
 
 
 def mjui_event(ui, state, con):
@@ -3182,11 +3364,13 @@ def mjui_event(ui, state, con):
 
 Handle UI event; return pointer to changed item, NULL if no change.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+Not available in mjcffi: MuJoCo's UI needs a window: an mjUI laid out by mjui_add (itself
+unsupported) and an mjuiState of mouse and keyboard events from a windowing library, drawn
+into the window's framebuffer; mjcffi renders offscreen only.
 The raw C function is mjcffi.lib.mjui_event.
 """
     raise NotImplementedError(
-        'mjui_event: needs a current OpenGL context, which mjcffi does not create yet')
+        "mjui_event: MuJoCo's UI needs a window: an mjUI laid out by mjui_add (itself unsupported) and an mjuiState of mouse and keyboard events from a windowing library, drawn into the window's framebuffer; mjcffi renders offscreen only")
 
 
 def mjui_render(ui, state, con):
@@ -3194,11 +3378,13 @@ def mjui_render(ui, state, con):
 
 Copy UI image to current buffer.
 
-Not available in mjcffi: needs a current OpenGL context, which mjcffi does not create yet.
+Not available in mjcffi: MuJoCo's UI needs a window: an mjUI laid out by mjui_add (itself
+unsupported) and an mjuiState of mouse and keyboard events from a windowing library, drawn
+into the window's framebuffer; mjcffi renders offscreen only.
 The raw C function is mjcffi.lib.mjui_render.
 """
     raise NotImplementedError(
-        'mjui_render: needs a current OpenGL context, which mjcffi does not create yet')
+        "mjui_render: MuJoCo's UI needs a window: an mjUI laid out by mjui_add (itself unsupported) and an mjuiState of mouse and keyboard events from a windowing library, drawn into the window's framebuffer; mjcffi renders offscreen only")
 
 
 def mju_error(msg):

@@ -119,6 +119,20 @@ def scalar_error(exc, func, scalars):
     return TypeError(f"{func}(): a scalar argument was refused ({names}): {exc}")
 
 
+def bad_scalar(func, scalars):
+    """The error naming the first of `scalars` (as scalar_error takes them) that its C
+    type refuses, or None.  For a check that runs before the call converts them (the
+    renderer's OpenGL state): a wrong argument is named before the state is blamed."""
+    for name, (ctype, value) in scalars.items():
+        try:
+            if value is None:
+                raise TypeError
+            ffi.new(ctype + " *", value)
+        except (TypeError, OverflowError):
+            return scalar_error(None, func, {name: (ctype, value)})
+    return None
+
+
 # ---------------------------------------------------------------- structs
 
 _POINTER_TYPES: dict = {}

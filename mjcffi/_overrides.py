@@ -14,9 +14,12 @@ mju_error raises FatalError.
 import numpy as np
 
 from . import _marshal as _m
+from . import _mjr
 from . import callbacks as _callbacks
 from . import warning_errors as _warnings
+from ._errors import ArgumentError, with_note
 from ._library import ffi, lib
+from ._views import int_argument
 from .structs import _checks, _handles
 
 __all__ = ["mj_step", "mj_forward", "mj_loadXML", "mj_loadModel", "mj_loadModelBuffer",
@@ -24,13 +27,17 @@ __all__ = ["mj_step", "mj_forward", "mj_loadXML", "mj_loadModel", "mj_loadModelB
            "mj_deleteVFS", "mj_loadTexture", "mj_saveXMLString", "mj_printSchema",
            "mjs_getDouble", "mjr_findRect", "mju_getXMLDependencies", "mju_getLogConfig",
            "mjv_makeScene", "mjv_freeScene", "mjv_defaultScene", "mj_mountVFS", "mj_unmountVFS",
-           "mj_deleteFileVFS", "mju_malloc", "mju_free"]
+           "mj_deleteFileVFS", "mju_malloc", "mju_free", "mjr_makeContext", "mjr_freeContext",
+           "mjr_readPixels", "mjr_drawPixels"]
 
 _step = lib.mjcffi_step
 
 _M, _D = "mujoco._structs.MjModel", "mujoco._structs.MjData"
 _VFS, _SPEC = "mujoco._structs.MjVFS", "mujoco._structs.MjSpec"
 _SCN = "mujoco._structs.MjvScene"
+_CON, _RECT = "mujoco._structs.MjrContext", "mujoco._structs.MjrRect"
+_RGB = "numpy.typing.NDArray[numpy.uint8]"
+_DEPTH = "numpy.typing.NDArray[numpy.float32]"
 
 # The first line of each docstring, in the official bindings' shape (the
 # signature); mjcffi/functions.py puts the header's doc comment after it.
@@ -65,6 +72,12 @@ SIGNATURES = {
     "mj_deleteFileVFS": f"mj_deleteFileVFS(vfs: {_VFS}, filename: str) -> int",
     "mju_malloc": "mju_malloc(size: int) -> Any",
     "mju_free": "mju_free(ptr: Any) -> None",
+    "mjr_makeContext": f"mjr_makeContext(m: {_M}, con: {_CON}, fontscale: int) -> None",
+    "mjr_freeContext": f"mjr_freeContext(con: {_CON}) -> None",
+    "mjr_readPixels": f"mjr_readPixels(rgb: {_RGB} | None, depth: {_DEPTH} | None, "
+                      f"viewport: {_RECT}, con: {_CON}) -> None",
+    "mjr_drawPixels": f"mjr_drawPixels(rgb: {_RGB} | None, depth: {_DEPTH} | None, "
+                      f"viewport: {_RECT}, con: {_CON}) -> None",
 }
 
 
@@ -441,6 +454,106 @@ def mjr_findRect(x, y, nrect, rect):
         raise _m.scalar_error(exc, "mjr_findRect", {"x": ("int", x), "y": ("int", y)}) from None
     _m.check_error()
     return ret
+
+
+# ------------------------------------------------------------ the renderer
+#
+# An MjrContext records the OpenGL context it was made in (mjcffi/_mjr.py), which
+# every mjr_* function that draws checks.
+
+def mjr_makeContext(m, con, fontscale):
+    """Python: con must be an MjrContext (MjrContext(m, fontscale) does the same in
+    one step).  An OpenGL context must be current (FatalError otherwise: make a
+    GLContext current first); what con held is freed first, as by con.free()."""
+    c_m = _m.struct(m, "mjModel", "m")
+    record = _mjr.record_of(con)
+    fontscale = int_argument(fontscale, "fontscale", "int")
+    _mjr.make_context(con._ptr, record, c_m, fontscale)
+
+
+def mjr_freeContext(con):
+    """Python: as con.free(): OpenGL objects are deleted only while the OpenGL context con
+    was made in is current (elsewhere MuJoCo's memory alone is freed); freeing twice does
+    nothing."""
+    _mjr.release_context(_m.struct(con, "mjrContext", "con"), _mjr.record_of(con))
+
+
+# bytes per pixel of the OpenGL formats mjr_readPixels may read with (con.readPixelFormat):
+# GL_RED, GREEN, BLUE, ALPHA, RGB, RGBA, LUMINANCE, LUMINANCE_ALPHA, RG, BGR, BGRA
+_PIXEL_BYTES = {0x1903: 1, 0x1904: 1, 0x1905: 1, 0x1906: 1, 0x1907: 3, 0x1908: 4, 0x1909: 1,
+                0x190A: 2, 0x8227: 2, 0x80E0: 3, 0x80E1: 4}
+_BYTE, _FLOAT = np.dtype(np.uint8), np.dtype(np.float32)
+
+
+def _viewport(viewport):
+    rect = _m.struct_value(viewport, "mjrRect", "viewport")
+    if rect.width < 0 or rect.height < 0:
+        raise ValueError("viewport width and height must be non-negative")
+    _mjr.rect_fits(rect, "viewport")
+    return rect
+
+
+def _pixel_buffer(value, dtype, name, output):
+    """(array, C pointer) of a pixel buffer, or (None, NULL); the official messages."""
+    if value is None:
+        return None, _m.NULL
+    if not output:                   # an input: converted, as the generated functions do
+        return _m.array_in(value, _m.BYTE if dtype == _BYTE else _m.FLOAT, name)
+    if not isinstance(value, np.ndarray) or value.dtype != dtype:
+        raise ArgumentError(f"{name} must be a writable NumPy array of dtype {dtype}, not "
+                            f"{getattr(value, 'dtype', type(value).__name__)}")
+    if not value.flags.c_contiguous:
+        raise with_note(ArgumentError(f"{name} buffer must be C-contiguous"),
+                        f"MuJoCo {'writes' if output else 'reads'} it as one block")
+    if output and not value.flags.writeable:
+        raise ArgumentError(f"{name} is read-only; MuJoCo writes into it")
+    return value, ffi.from_buffer((_m.BYTE if dtype == _BYTE else _m.FLOAT)[1], value)
+
+
+def _enough(array, needed, name):
+    if array is not None and array.size < needed:
+        raise with_note(ArgumentError(f"{name} buffer is too small for viewport"),
+                        f"{name} has {array.size} elements; the viewport needs {needed}, which "
+                        f"MuJoCo writes or reads unchecked")
+
+
+def mjr_readPixels(rgb, depth, viewport, con):
+    """Python: rgb (uint8) and depth (float32) are writable C-contiguous arrays of any
+    shape, such as (height, width, 3) and (height, width), or None; they must hold the
+    viewport's pixels: width*height*3 bytes of rgb (the bytes per pixel of
+    con.readPixelFormat when that is set to another format), width*height floats of
+    depth.  Row 0 is the bottom of the image, as OpenGL reads it."""
+    rect = _viewport(viewport)
+    rgb, c_rgb = _pixel_buffer(rgb, _BYTE, "rgb", True)
+    depth, c_depth = _pixel_buffer(depth, _FLOAT, "depth", True)
+    c_con = _m.struct(con, "mjrContext", "con")
+    _mjr.context(con, "con", "mjr_readPixels")
+    pixels = rect.width * rect.height
+    if rgb is not None:
+        fmt = 0x1907 if c_con.currentBuffer == 0 else c_con.readPixelFormat   # GL_RGB
+        size = 3 if c_con.currentBuffer == 0 else _PIXEL_BYTES.get(fmt)
+        if size is None:
+            raise ValueError(f"con.readPixelFormat={fmt:#x} is not an OpenGL format mjcffi "
+                             f"knows the pixel size of: set it to GL_RGB (0x1907) or GL_RGBA "
+                             f"(0x1908)")
+        _enough(rgb, pixels * size, "rgb")
+    _enough(depth, pixels, "depth")
+    _m.check(lib.mjcffi_guard_mjr_readPixels(c_rgb, c_depth, rect, c_con))
+
+
+def mjr_drawPixels(rgb, depth, viewport, con):
+    """Python: rgb (uint8, width*height*3 values, as (height, width, 3) or flat) and
+    depth (float32, width*height) are converted when needed, or None; rows from the
+    bottom, as OpenGL draws them."""
+    rect = _viewport(viewport)
+    rgb, c_rgb = _pixel_buffer(rgb, _BYTE, "rgb", False)
+    depth, c_depth = _pixel_buffer(depth, _FLOAT, "depth", False)
+    pixels = rect.width * rect.height
+    _enough(rgb, pixels * 3, "rgb")
+    _enough(depth, pixels, "depth")
+    c_con = _m.struct(con, "mjrContext", "con")
+    _mjr.context(con, "con", "mjr_drawPixels")
+    _m.check(lib.mjcffi_guard_mjr_drawPixels(c_rgb, c_depth, rect, c_con))
 
 
 # ------------------------------------------------------------ string lists

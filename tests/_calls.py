@@ -79,6 +79,7 @@ MODEL_SCALARS = {
     ("mj_rayMesh", "geomid"): lambda env: _geom_of_type(env, 7),         # mjGEOM_MESH
     ("mjs_firstElement", "type"): lambda env: 1,                         # mjOBJ_BODY
     ("mjv_connector", "type"): lambda env: 3,                            # mjGEOM_CAPSULE
+    ("mjr_changeFont", "fontscale"): lambda env: 100,                    # mjFONTSCALE_100
 }
 
 # Array functions left out of valid_call, and why.
@@ -243,6 +244,7 @@ FULL_SKIP = {
     "mju_error": "raises FatalError by design",
     "mju_info": "variadic",
     "mjc_getSDF": "needs a geom with an SDF plugin",
+    "mjr_uploadTexture": "the test model has no texture (tests/test_mjr.py checks its id)",
 }
 
 
@@ -268,7 +270,7 @@ class Pool:
             "mjsWrap": F.mjs_wrapSite(tendon, "tip"),
             "mjsOrientation": body.alt, "mjsMesh": F.mjs_addMesh(spec, None),
             "mjsSensor": F.mjs_addSensor(spec), "mjsPlugin": F.mjs_addPlugin(spec),
-            "mjvScene": structs.MjvScene(m, maxgeom=100), "mjVFS": structs.MjVFS(),
+            "mjvScene": _scene(mjcffi, self.env), "mjVFS": structs.MjVFS(),
         }
         frame = F.mjs_findFrame(spec, "frame")
         if frame is not None:
@@ -279,6 +281,9 @@ class Pool:
             value = getattr(structs, cls)()
             self.instances[value._cname] = value
         self.instances["mjrRect"] = structs.MjrRect(0, 0, 10, 10)
+        # a default MjrContext: the mjr_* functions check every argument, then refuse it
+        # (no OpenGL context here); stubbed() lets their good calls through that check
+        self.instances["mjrContext"] = structs.MjrContext()
         F.mj_defaultVFS(self.instances["mjVFS"])
 
 
@@ -352,12 +357,25 @@ class _Reached(Exception):
 def stubbed():
     """The generated functions call a stub instead of MuJoCo, within the block."""
     from mjcffi import _functions
-    real = _functions._lib
+    real, checks = _functions._lib, _functions._r
     _functions._lib = stub = _Stub(real)
+    _functions._r = _NoOpenGL(checks)
     try:
         yield stub
     finally:
-        _functions._lib = real
+        _functions._lib, _functions._r = real, checks
+
+
+class _NoOpenGL:
+    """Stands for mjcffi/_mjr.py: its OpenGL-state checks pass (the C call is stubbed)."""
+
+    def __init__(self, real):
+        self._real = real
+
+    def __getattr__(self, name):
+        if name in ("context", "gl_ready"):
+            return lambda *args: None
+        return getattr(self._real, name)
 
 
 def reaches_c(func, kwargs):

@@ -120,8 +120,8 @@ def _nullable_sweep(start):
     pool, default = _calls.Pool(), _calls.Pool(scenes.DEFAULT)
     cases = []
     for func in FUNCTIONS:
-        if not _calls.generated(func):
-            continue
+        if not _calls.generated(func) or table.draws(func):
+            continue                # drawing needs OpenGL: test_mjr.py passes None under it
         names = [py for py, arg in _calls.params(func)
                  if arg is not None and arg.name in _calls.nullable(func)]
         cases += [(func, [py]) for py in names]
@@ -246,7 +246,8 @@ def test_item10_every_derived_id_is_checked_at_its_bounds():
     assert code == 0, err[-3000:]
     report = json.loads(out.strip().splitlines()[-1])
     assert not report["wrong"], report["wrong"]
-    assert report["checked"] >= sum(len(v) for v in table.IDS.values()) - 1   # nthread
+    # nthread, and mjr_uploadTexture's texid (the test model has no texture: test_mjr.py)
+    assert report["checked"] >= sum(len(v) for v in table.IDS.values()) - 2
 
 
 def _id_sweep():

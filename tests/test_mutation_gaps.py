@@ -27,13 +27,14 @@ from codegen import functions as codegen_functions
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
 # Every count the id table uses is nonzero here: bodies, geoms (one of them a
-# mesh and one an hfield), sites, a flex, actuators, sensors and, after
+# mesh and one an hfield), sites, a flex, a texture, actuators, sensors and, after
 # mj_forward, contacts.
 MODEL = """
 <mujoco>
   <asset>
     <mesh name="tet" vertex="0 0 0  1 0 0  0 1 0  0 0 1"/>
     <hfield name="hill" nrow="3" ncol="3" size="1 1 .1 .1"/>
+    <texture name="grid" type="2d" builtin="checker" width="8" height="8"/>
   </asset>
   <worldbody>
     <geom name="floor" type="plane" size="2 2 .1"/>

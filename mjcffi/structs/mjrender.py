@@ -2,8 +2,9 @@
 """The structs of MuJoCo's mjrender.h, as thin classes over C memory."""
 
 from .._library import ffi, lib
-from .._views import (Bound, DynamicArray, FixedArray, Struct, ValueStruct, cstring, guarded,
-                      int_argument, scalar, struct_pointer, struct_type)
+from .._views import (Bound, DynamicArray, FixedArray, Struct, ValueStruct, cstring, int_argument,
+                      scalar, struct_pointer, struct_type)
+from .._mjr import context_repr, make_context, new_context, release_context
 
 __all__ = ['MjrRect', 'MjrRendererInfo', 'MjrVertexAttribute', 'MjrContext']
 
@@ -77,15 +78,30 @@ class MjrContext(Struct):
     }
 
     def __init__(self, model=None, fontscale=None):
-        """MjrContext() is default-initialized; MjrContext(model, fontscale) is made by mjr_makeContext and freed by mjr_freeContext when collected."""
+        """MjrContext() is default-initialized: it cannot draw.  MjrContext(model, fontscale)
+        is made by mjr_makeContext in the OpenGL context current on this thread (FatalError
+        if none is: make a GLContext current first), and freed by free() or when collected.
+
+        Every mjr_* function checks that it was made and not freed, and that the OpenGL
+        context it was made in is current (mjcffi/_mjr.py).
+        """
         if len({x is None for x in (model, fontscale)}) > 1:
             raise TypeError('MjrContext takes model and fontscale together, or none of them')
-        root = ffi.new('mjrContext *')
-        lib.mjr_defaultContext(root)
+        root, record = new_context()
         if model is not None:
-            guarded(lib.mjcffi_guard_mjr_makeContext, struct_pointer(model, 'mjModel', 'model'), root, int_argument(fontscale, 'fontscale', 'int'))
-            root = ffi.gc(root, lib.mjr_freeContext)
-        self._init_root(root)
+            make_context(root, record, struct_pointer(model, 'mjModel', 'model'),
+                         int_argument(fontscale, 'fontscale', 'int'))
+        self._init_root(root, _mjr=record)
+
+    def free(self):
+        """Free its OpenGL resources now (mjr_freeContext), as the official free(); it is
+        then default, and the mjr_* functions refuse it.  Freeing again does nothing.  With
+        another OpenGL context current (or none), only MuJoCo's memory is freed here: its
+        OpenGL objects go with the context they were made in."""
+        release_context(self._ptr, self._mjr)
+
+    def __repr__(self):
+        return context_repr(self, super().__repr__())
 
     lineWidth: float = scalar('lineWidth', 'line width for wireframe rendering')
     shadowClip: float = scalar('shadowClip', 'clipping radius for directional lights')

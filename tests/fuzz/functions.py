@@ -50,6 +50,7 @@ VALID = {
           "seq": "xyz", "str": "body", "xml": None, "msg": "fuzz", "float_format": "%g",
           "attrib": "x", "key_": "k", "text": "a b", "prefix": "p", "suffix": "",
           "sequence": "xyz", "path": "nowhere.so", "resource_name": "x.xml"},
+    "mjr_changeFont": {"fontscale": 100},          # an mjtFontScale member
     "mj_loadXML": {"filename": "model.xml"},
     "mj_parseXML": {"filename": "model.xml"},
     "mj_parse": {"filename": "model.xml"},
