@@ -11,6 +11,7 @@ loads on first use, so that `import mjcffi` stays cheap.
 """
 
 import importlib
+import importlib.util
 
 from . import _aliases
 from ._constants import *  # noqa: F401,F403
@@ -50,6 +51,8 @@ _LAZY = {
     "mjTIMERSTRING": "._stringtables", "mjLABELSTRING": "._stringtables",
     "mjFRAMESTRING": "._stringtables", "mjVISSTRING": "._stringtables",
     "mjRNDSTRING": "._stringtables", "mjTOPICSTRING": "._stringtables",
+    "GLContext": ".gl_context",     # reads MUJOCO_GL; absent when it says disable, as official
+    "Renderer": ".renderer",        # loads a GL backend on construction, not on import
 }
 
 
@@ -57,10 +60,21 @@ _LAZY = {
 # `mujoco.minimize`, and the mujoco-py interface
 _SUBMODULES = ("rollout", "batch", "minimize", "sim")
 
+# the official GL backends' modules, attributes once imported; absent (AttributeError)
+# where the backend cannot load, as official.  dir() lists glfw where it is installed,
+# as the official's does with MUJOCO_GL unset (its gl_context imports mujoco.glfw).
+_GL_SUBMODULES = ("egl", "osmesa", "glfw")
+
 
 def __getattr__(name):
     if name in _SUBMODULES:
         value = globals()[name] = importlib.import_module(f".{name}", __name__)
+        return value
+    if name in _GL_SUBMODULES:
+        try:
+            value = globals()[name] = importlib.import_module(f".{name}", __name__)
+        except ImportError as error:
+            raise AttributeError(f"module 'mjcffi' has no attribute {name!r}: {error}") from None
         return value
     module = _LAZY.get(name)
     if module is None and name.startswith("mj"):
@@ -91,5 +105,6 @@ _aliases.install()
 def __dir__():
     structs = importlib.import_module(".structs", __name__)
     functions = importlib.import_module(".functions", __name__)
+    gl = {"glfw"} if importlib.util.find_spec("glfw") is not None else set()
     return sorted(set(globals()) | set(_LAZY) | set(_SUBMODULES) | set(structs.MODULES)
-                  | set(functions.NAMES))
+                  | set(functions.NAMES) | gl)

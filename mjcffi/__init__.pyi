@@ -36,3 +36,10 @@ mjFRAMESTRING: tuple[str, ...]
 mjVISSTRING: tuple[tuple[str, str, str], ...]
 mjRNDSTRING: tuple[tuple[str, str, str], ...]
 mjTOPICSTRING: tuple[str, ...]
+
+# mjcffi/gl_context.py: the OpenGL context class of the backend MUJOCO_GL names
+from .rendering._base import GLContextBase as _GLContextBase
+GLContext: type[_GLContextBase]
+
+# mjcffi/renderer.py: offscreen rendering of scenes into NumPy arrays
+from .rendering.renderer import Renderer as Renderer

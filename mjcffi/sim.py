@@ -15,7 +15,14 @@ Nothing here binds MuJoCo again: SimModel and SimData are the MjModel and
 MjData of mjcffi, and stepping is mjcffi's C loop (`nsubsteps` steps per
 call, the GIL released).  As in mujoco-py, a MuJoCo warning during
 `MjSim.step()` or `MjSim.forward()` raises MujocoException, unless inside
-`ignore_mujoco_warnings()`.  Rendering is not available.
+`ignore_mujoco_warnings()`.
+
+Rendering is offscreen, in an OpenGL context of the backend MUJOCO_GL names
+(egl, osmesa or glfw): `sim.render(width, height, camera_name=...)`, or a
+`MjRenderContextOffscreen(sim)` of one's own; `TextureModder` and
+`MaterialModder` randomize textures and materials between frames.  The
+render contexts live in mjcffi/rendering/_sim*.py.  Window rendering (mujoco-py's
+MjViewer) is not available yet.
 """
 
 import contextlib
@@ -37,10 +44,14 @@ from ._functions import mj_resetData
 from ._overrides import mj_forward, mj_step
 from ._simgetters import SimDataGetters, SimModelGetters
 from .model import MjModel
+from .rendering import _simchecks, _simgl
+from .rendering._simmodder import MaterialModder, TextureModder
+from .rendering._simrender import WINDOW_MISSING, MjRenderContext, MjRenderContextOffscreen
 
 __all__ = ["SimModel", "SimData", "MjSim", "MjSimState", "MjSimPool", "MujocoException",
            "ignore_mujoco_warnings", "load_model_from_path", "load_model_from_xml",
-           "load_model_from_mjb"]
+           "load_model_from_mjb", "MjRenderContext", "MjRenderContextOffscreen",
+           "TextureModder", "MaterialModder"]
 
 
 # ------------------------------------------------------------------ model and data
@@ -196,9 +207,14 @@ class MjSim:
     is made or reset and before each step, and its keys and value shapes
     must stay the same.  The result is `sim.udd_state`, saved and restored
     with the state.
+
+    `render_callback(sim, render_context)`, if given, runs before each frame a
+    render context draws (it may add markers or overlays).  `render_contexts`
+    lists the sim's render contexts; `render()` uses the first offscreen one,
+    made on first use.
     """
 
-    def __init__(self, model, data=None, nsubsteps=1, udd_callback=None):
+    def __init__(self, model, data=None, nsubsteps=1, udd_callback=None, render_callback=None):
         if not isinstance(model, MjModel):
             raise TypeError(f"model must be an MjModel, not {type(model).__name__}")
         if data is None:
@@ -210,6 +226,10 @@ class MjSim:
         self._pointers = _marshal.model_data(model, data)
         self._udd_callback = udd_callback
         self.udd_state = {}
+        self.render_callback = render_callback
+        self.render_contexts = []
+        self._render_context_offscreen = None
+        self._render_context_window = None
         self._step_udd()
 
     # -- user-defined state
@@ -337,10 +357,73 @@ class MjSim:
             raise TypeError("format 'mjb' needs a file opened in binary mode")
         file.write(mjb)
 
-    def render(self, *args, **kwargs):
-        """Not available: mjcffi has no rendering yet."""
-        raise NotImplementedError("MjSim.render: rendering is not available in mjcffi yet "
-                                  "(the mjr_* functions need an OpenGL context)")
+    # -- rendering
+
+    def render(self, width=None, height=None, *, camera_name=None, depth=False,
+               mode="offscreen", device_id=-1, segmentation=False):
+        """An image of the current state, rendered offscreen, as mujoco-py returned it.
+
+        `width` x `height` pixels (None: the model's offscreen buffer side,
+        `model.vis.global_.offwidth/offheight`, which also bounds them), seen by the
+        camera `camera_name` (None: the render context's camera, at first a free camera
+        looking at the model).  The first call makes `sim._render_context_offscreen`, an
+        MjRenderContextOffscreen on EGL device `device_id` (-1: the default), and later
+        calls reuse it.
+
+        Returns rgb, a (height, width, 3) uint8 array, or with `depth` the pair (rgb,
+        depth), depth a (height, width) float32 array.  As in mujoco-py, rows come in
+        OpenGL's order: row 0 is the *bottom* of the picture, so `rgb[::-1]` is the
+        picture as an image viewer (or the official `mujoco.Renderer`) shows it.  Depth
+        is OpenGL's raw depth buffer: 0 at the near clipping plane, 1 at the far plane
+        and where nothing was drawn, not linear in distance; the distance along the
+        view axis is `near / (1 - depth * (1 - near / far))`, with
+        `near = model.vis.map.znear * model.stat.extent` and `far` from zfar likewise.
+        With `segmentation`, the image is (height, width, 2) int32 of (object type,
+        object id) per pixel, (-1, -1) for the background.
+
+        ValueError for an unknown camera name, a size that is not positive or does not
+        fit the offscreen buffer (MjRenderContextOffscreen.update_offscreen_size grows
+        it), or a mode other than 'offscreen'; `mode='window'` raises
+        NotImplementedError until the viewer exists.
+        """
+        if mode == "window":
+            raise NotImplementedError(WINDOW_MISSING)
+        if mode != "offscreen":
+            raise ValueError(f"mode must be 'offscreen' or 'window', not {mode!r}")
+        camera_id = _simchecks.camera_name(self.model, camera_name)
+        _simgl.device_id(device_id)
+        width, height = _simchecks.default_size(width, height, self.model)
+        with _render_lock:
+            context = self._render_context_offscreen
+            if context is None:      # its buffer will be the model's: refuse before making it
+                vis = self.model.vis.global_
+                _simchecks.image_size(width, height, vis.offwidth, vis.offheight)
+                context = MjRenderContextOffscreen(self, device_id=device_id)
+        with context._drawing():         # one frame: drawn and read with no other between
+            context.render(width, height, camera_id=camera_id, segmentation=segmentation)
+            return context.read_pixels(width, height, depth=depth, segmentation=segmentation)
+
+    def add_render_context(self, render_context):
+        """Add a render context to `render_contexts`; the first offscreen one becomes the
+        one `render()` uses.  (A render context adds itself when made.)"""
+        if not isinstance(render_context, MjRenderContext):
+            raise TypeError(f"render_context must be an MjRenderContext, not "
+                            f"{type(render_context).__name__}")
+        if any(context is render_context for context in self.render_contexts):
+            return
+        self.render_contexts.append(render_context)
+        if render_context.offscreen and self._render_context_offscreen is None:
+            self._render_context_offscreen = render_context
+
+    def _forget_render_context(self, render_context):
+        """A render context was freed or moved to another sim: drop it here."""
+        self.render_contexts[:] = [c for c in self.render_contexts if c is not render_context]
+        if self._render_context_offscreen is render_context:
+            self._render_context_offscreen = next(
+                (c for c in self.render_contexts if c.offscreen), None)
+
+
+_render_lock = threading.Lock()     # one first render context per sim, whichever thread asks
 
 
 SAVED_KEY = "saved_state"

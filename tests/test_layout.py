@@ -70,11 +70,19 @@ TABLES = {"_enums", "_constants", "_structinfo", "_funcinfo", "_namedinfo"}
 SUPPORT = {"_library", "_errors", "_views", "_marshal", "_arena", "_loading", "plugins",
            "_stringtables", "callbacks", "named", "_simsupport", "_modelcheck",
            # not named in the README's list, and importing nothing of the package
-           "_aliases", "scenes", "_machine", "_build"}
+           "_aliases", "scenes", "_machine", "_build",
+           # what the mjr_* functions check of their OpenGL context (issue 12)
+           "_mjr", "structs._checks", "structs._handles"}
 GENERATED = {"_functions", "_simgetters", "structs"}
+# Hand-written modules beside the generated struct classes, used by them and by the
+# support layer (the mjr_* checks): units of their own, in the support layer.
+OWN_UNITS = {"structs._checks", "structs._handles"}
 TOP = {"model", "data", "vfs", "log_config", "functions", "_overrides", "warning_errors",
        "user_handlers", "rollout", "_batch", "batch", "minimize", "sim", "accuracy",
-       "__init__", "__main__"}
+       "__init__", "__main__",
+       # rendering (issue 12): the package holds the OpenGL contexts (cffi and glfw only)
+       # and the Renderer, which draws with the mjr_* functions; the official import paths
+       "rendering", "gl_context", "egl", "osmesa", "glfw", "renderer"}
 TIER = {**{n: "table" for n in TABLES}, **{n: "support" for n in SUPPORT},
         **{n: "generated" for n in GENERATED}, **{n: "top" for n in TOP}, "_mjcffi": "compiled"}
 ALLOWED = {"table": set(), "compiled": set(),
@@ -83,17 +91,25 @@ ALLOWED = {"table": set(), "compiled": set(),
            "top": {"compiled", "table", "support", "generated", "top"}}
 
 
+def _unit_of(parts):
+    """The unit of a module from its path in the package: its top-level name, or one of
+    OWN_UNITS."""
+    inner = ".".join(parts[:2])
+    return inner if inner in OWN_UNITS else parts[0]
+
+
 def _modules():
-    """Every Python module of the package: (top-level unit, dotted name, path)."""
+    """Every Python module of the package: (unit, dotted name, path)."""
     for path in sorted(PACKAGE.rglob("*.py")):
         parts = path.relative_to(PACKAGE).with_suffix("").parts
-        yield parts[0], ".".join(("mjcffi", *parts)), path
+        yield _unit_of(parts), ".".join(("mjcffi", *parts)), path
 
 
 def _unit(dotted):
-    """The top-level unit ('callbacks', 'structs', '__init__') of an mjcffi module name."""
-    parts = dotted.split(".")
-    return "__init__" if len(parts) == 1 else parts[1]
+    """The unit ('callbacks', 'structs', 'structs._checks', '__init__') of an mjcffi module
+    name."""
+    parts = dotted.split(".")[1:]
+    return "__init__" if not parts else _unit_of(parts)
 
 
 def _exists(dotted):

@@ -115,8 +115,8 @@ def test_nsubsteps_and_given_data():
     sim.forward()
     sim.reset()
     assert sim.data.time == 0
-    with pytest.raises(NotImplementedError, match="rendering is not available"):
-        sim.render(64, 64)
+    with pytest.raises(NotImplementedError, match="window rendering"):
+        sim.render(64, 64, mode="window")     # offscreen: tests/test_sim_render.py
 
 
 def test_pool_matches_single_sims():
