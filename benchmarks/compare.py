@@ -3,14 +3,15 @@
 Runs every benchmark in one process (import times in fresh interpreters),
 interleaved, and prints RESULTS.md, or writes it with --write, together with
 the README's figures (benchmarks/readme.py).  Models: a
-tiny pendulum and gymnasium's humanoid and ant.
+tiny pendulum and gymnasium's humanoid and ant.  Rendering runs in a child
+interpreter with MUJOCO_GL=egl (bench_render).
 """
 
 import argparse
 import pathlib
 
-from . import (bench_batch, bench_import, bench_named, bench_nstep, bench_rollout, bench_sim,
-               bench_step, bench_structs, readme)
+from . import (bench_batch, bench_import, bench_named, bench_nstep, bench_render, bench_rollout,
+               bench_sim, bench_step, bench_structs, readme)
 from mjcffi._machine import environment
 
 RESULTS = pathlib.Path(__file__).resolve().parent / "RESULTS.md"
@@ -30,7 +31,7 @@ def main(argv=None):
              "shared and noisy: read the ratios, not the absolute times.", ""]
     lines += environment() + [""]
     for bench in (bench_import, bench_step, bench_nstep, bench_structs, bench_named,
-                  bench_rollout, bench_batch, bench_sim):
+                  bench_rollout, bench_batch, bench_sim, bench_render):
         lines += bench.run() + [""]
     text = "\n".join(lines)
     print(text)

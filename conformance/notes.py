@@ -51,16 +51,16 @@ NOTES = (
     Note(("render_test.py::ExternalGLContextLazyImportTest::*",), NOT_APPLICABLE,
          "These tests read `rendering/classic/gl_context.py` beside the imported package's "
          "`__init__.py`: a file of the official package's own layout."),
-    Note(("render_test.py::*", "renderer_test.py::*"), GAP,
-         "mjcffi has no OpenGL rendering yet (GLContext, MjrContext and the mjr_* functions, "
-         "Renderer): issue 12 builds it."),
+    Note(("render_test.py::EglDisplayTest::*",), NOT_APPLICABLE,
+         "These tests check that `GLContext.__module__` is `mujoco.egl` and use that module's "
+         "PyOpenGL internals (its `EGL_DISPLAY`, `_terminate_display`); mjcffi's EGL binding "
+         "is cffi (mjcffi/rendering/_egl.py)."),
     Note(("egl_test.py::*",), NOT_APPLICABLE,
          "The tests load the official package's own `egl/__init__.py` by file path, with a fake "
          "PyOpenGL, to test its device selection; mjcffi's EGL binding (issue 12) is cffi, "
          "not PyOpenGL."),
     Note(("viewer_test.py::*",), GAP,
-         "mjcffi has no `viewer` module yet: issue 14 builds it. (The official run cannot "
-         "collect this file either here: it needs the `glfw` package.)"),
+         "mjcffi has no `viewer` module yet: issue 14 builds it."),
     Note(("msh2obj_test.py::*",), GAP,
          "mjcffi has no `msh2obj`, the official package's converter of Gmsh meshes to OBJ "
          "files; no issue plans it yet."),
