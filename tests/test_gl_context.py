@@ -11,6 +11,7 @@ import json
 import os
 import shutil
 import subprocess
+import importlib.util
 import sys
 import textwrap
 import threading
@@ -18,32 +19,9 @@ import threading
 import pytest
 
 from mjcffi.rendering import _base, _current, _egl_devices, context
+from tests._gl import env as _env, skip_reason as _skip_reason
 
 TIMEOUT = 300
-
-
-def _loads(*names):
-    """Whether cffi can dlopen one of `names`, tried in a subprocess."""
-    code = ("import cffi, sys\nfor n in sys.argv[1:]:\n    try: cffi.FFI().dlopen(n)\n"
-            "    except OSError: continue\n    sys.exit(0)\nsys.exit(1)")
-    return subprocess.run([sys.executable, "-c", code, *names], timeout=60).returncode == 0
-
-
-def _glfw_installed():
-    import importlib.util
-    return importlib.util.find_spec("glfw") is not None
-
-
-def _skip_reason(backend):
-    if backend == "egl" and not _loads("libEGL.so.1"):
-        return "libEGL is missing: apt-get install libegl1 libgl1-mesa-dri"
-    if backend == "osmesa" and not _loads("libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"):
-        return "libOSMesa is missing: apt-get install libosmesa6"
-    if backend == "glfw" and not _glfw_installed():
-        return "the glfw package is missing: pip install 'mjcffi[glfw]'"
-    if backend == "glfw" and shutil.which("Xvfb") is None:
-        return "Xvfb is missing: apt-get install xvfb"
-    return None
 
 
 @pytest.fixture(scope="module")
@@ -62,17 +40,6 @@ def xvfb():
     yield f":{number}"
     server.terminate()
     server.wait(timeout=30)
-
-
-def _env(backend, display=None, **extra):
-    env = {k: v for k, v in os.environ.items()
-           if k not in ("MUJOCO_GL", "DISPLAY", "WAYLAND_DISPLAY", "MUJOCO_EGL_DEVICE_ID")}
-    env["MUJOCO_GL"] = backend
-    env["PYTHONDONTWRITEBYTECODE"] = "1"
-    if display:
-        env["DISPLAY"] = display
-    env.update(extra)
-    return env
 
 
 def _run(code, env, *args):
@@ -396,7 +363,7 @@ def test_a_missing_library_names_what_to_install():
 
 
 def test_without_a_display_glfw_says_to_use_xvfb():
-    if not _glfw_installed():
+    if importlib.util.find_spec("glfw") is None:
         pytest.skip("the glfw package is missing: pip install 'mjcffi[glfw]'")
     found = _run(CHOICE.replace(".backend", "(10, 10)"), _env("glfw"))
     assert found[0] == "RuntimeError"

@@ -9,14 +9,14 @@ is skipped only when its system library is missing, naming the Debian package.
 
 import json
 import os
-import subprocess
-import sys
 
 import pytest
 
 import mjcffi
 from mjcffi import functions as F
 from mjcffi import scenes
+from tests import _gl
+from tests._gl import outcome as _outcome
 
 TIMEOUT = 300
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -44,43 +44,9 @@ TEXTURED = """
 """
 
 
-def _loads(*names):
-    """Whether one of the shared libraries `names` loads, tried in a subprocess."""
-    code = ("import ctypes, sys\nfor n in sys.argv[1:]:\n    try: ctypes.CDLL(n)\n"
-            "    except OSError: continue\n    sys.exit(0)\nsys.exit(1)")
-    return subprocess.run([sys.executable, "-c", code, *names], timeout=60).returncode == 0
-
-
-def _skip_reason(backend):
-    if backend == "egl" and not _loads("libEGL.so.1"):
-        return "libEGL is missing: apt-get install libegl1 libgl1-mesa-dri"
-    if backend == "osmesa" and not _loads("libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"):
-        return "libOSMesa is missing: apt-get install libosmesa6"
-    return None
-
-
 def _run(backend, scenario):
-    """Run `scenario` (a function of this module) under MUJOCO_GL=backend; its JSON."""
-    reason = _skip_reason(backend)
-    if reason:
-        pytest.skip(reason)
-    env = dict(os.environ, MUJOCO_GL=backend, PYTHONDONTWRITEBYTECODE="1")
-    if backend == "osmesa":
-        env.setdefault("PYOPENGL_PLATFORM", "osmesa")
-    run = subprocess.run([sys.executable, "-c",
-                          f"from tests.test_mjr import {scenario}; {scenario}()"],
-                         cwd=ROOT, env=env, capture_output=True, text=True, timeout=TIMEOUT)
-    assert run.returncode == 0, f"exit {run.returncode}\n{run.stderr[-3000:]}"
-    return json.loads(run.stdout.strip().splitlines()[-1])
-
-
-def _outcome(call):
-    """'ok', or 'ExceptionName: message' of `call()`."""
-    try:
-        call()
-    except Exception as exc:         # noqa: BLE001  (returned, for the test to judge)
-        return f"{type(exc).__name__}: {exc}"
-    return "ok"
+    """Run the scenario, a function of this module, under MUJOCO_GL=backend; its JSON."""
+    return _gl.run("tests.test_mjr", backend, scenario, timeout=TIMEOUT)
 
 
 def _setup(xml, width=160, height=120, maxgeom=1000):

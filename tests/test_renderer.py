@@ -24,8 +24,11 @@ import numpy as np
 import pytest
 
 import mjcffi
+from tests import _gl
+from tests._gl import env as _env, outcome as _outcome, skip_reason as _skip_reason
 
 TIMEOUT = 600
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BACKENDS = ("egl", "osmesa")
 MODELS = ("humanoid", "ant", "hopper", "half_cheetah")
@@ -47,47 +50,9 @@ BOX = """
 """
 
 
-def _loads(*names):
-    """Whether one of the shared libraries `names` loads, tried in a subprocess."""
-    code = ("import ctypes, sys\nfor n in sys.argv[1:]:\n    try: ctypes.CDLL(n)\n"
-            "    except OSError: continue\n    sys.exit(0)\nsys.exit(1)")
-    return subprocess.run([sys.executable, "-c", code, *names], timeout=60).returncode == 0
-
-
-def _skip_reason(backend):
-    if backend == "egl" and not _loads("libEGL.so.1"):
-        return "libEGL is missing: apt-get install libegl1 libgl1-mesa-dri"
-    if backend == "osmesa" and not _loads("libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"):
-        return "libOSMesa is missing: apt-get install libosmesa6"
-    return None
-
-
-def _env(backend):
-    env = {k: v for k, v in os.environ.items()
-           if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM", "DISPLAY", "WAYLAND_DISPLAY")}
-    env.update(MUJOCO_GL=backend, PYOPENGL_PLATFORM=backend, PYTHONDONTWRITEBYTECODE="1")
-    return env
-
-
 def _run(backend, scenario, *args):
-    """Run `scenario(*args)` (a function of this module) under MUJOCO_GL=backend; its JSON."""
-    reason = _skip_reason(backend)
-    if reason:
-        pytest.skip(reason)
-    call = f"from tests.test_renderer import {scenario}; {scenario}(*{list(args)!r})"
-    run = subprocess.run([sys.executable, "-c", call], cwd=ROOT, env=_env(backend),
-                         capture_output=True, text=True, timeout=TIMEOUT)
-    assert run.returncode == 0, f"exit {run.returncode}\n{run.stderr[-4000:]}"
-    return json.loads(run.stdout.strip().splitlines()[-1])
-
-
-def _outcome(call):
-    """'ok', or 'ExceptionName: message' of `call()`."""
-    try:
-        call()
-    except Exception as exc:         # noqa: BLE001  (returned, for the test to judge)
-        return f"{type(exc).__name__}: {exc}"
-    return "ok"
+    """Run the scenario, a function of this module, under MUJOCO_GL=backend; its JSON."""
+    return _gl.run("tests.test_renderer", backend, scenario, *args, timeout=TIMEOUT)
 
 
 def _assets():

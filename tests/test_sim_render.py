@@ -16,9 +16,12 @@ import sys
 
 import numpy as np
 import pytest
+from tests import _gl
+from tests._gl import env as _env, outcome as _outcome, skip_reason as _skip_reason
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TIMEOUT = 600
+
 BACKENDS = ("egl", "osmesa")
 W, H = 160, 120
 
@@ -39,6 +42,11 @@ BOX = """
 """
 
 
+def _run(backend, scenario):
+    """Run the scenario, a function of this module, under MUJOCO_GL=backend; its JSON."""
+    return _gl.run("tests.test_sim_render", backend, scenario, timeout=TIMEOUT)
+
+
 def _humanoid():
     import gymnasium
     return os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets",
@@ -46,42 +54,6 @@ def _humanoid():
 
 
 # ------------------------------------------------------------ running a backend
-
-def _loads(*names):
-    """Whether cffi can dlopen one of `names`, tried in a subprocess."""
-    code = ("import cffi, sys\nfor n in sys.argv[1:]:\n    try: cffi.FFI().dlopen(n)\n"
-            "    except OSError: continue\n    sys.exit(0)\nsys.exit(1)")
-    return subprocess.run([sys.executable, "-c", code, *names], timeout=60).returncode == 0
-
-
-@functools.lru_cache(maxsize=None)
-def _skip_reason(backend):
-    if backend == "egl" and not _loads("libEGL.so.1"):
-        return "libEGL is missing: apt-get install libegl1 libgl1-mesa-dri"
-    if backend == "osmesa" and not _loads("libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"):
-        return "libOSMesa is missing: apt-get install libosmesa6"
-    return None
-
-
-def _env(backend):
-    env = {k: v for k, v in os.environ.items()
-           if k not in ("MUJOCO_GL", "DISPLAY", "WAYLAND_DISPLAY", "MUJOCO_EGL_DEVICE_ID")}
-    env.update(MUJOCO_GL=backend, PYTHONDONTWRITEBYTECODE="1")
-    return env
-
-
-def _run(backend, scenario):
-    """Run `scenario` (a function of this module) under MUJOCO_GL=backend; its JSON."""
-    reason = _skip_reason(backend)
-    if reason:
-        pytest.skip(reason)
-    run = subprocess.run([sys.executable, "-c",
-                          f"from tests.test_sim_render import {scenario}; {scenario}()"],
-                         cwd=ROOT, env=_env(backend), capture_output=True, text=True,
-                         timeout=TIMEOUT)
-    assert run.returncode == 0, f"exit {run.returncode}\n{run.stderr[-3000:]}"
-    return json.loads(run.stdout.strip().splitlines()[-1])
-
 
 @functools.lru_cache(maxsize=None)
 def _cached(backend, scenario):
@@ -94,15 +66,6 @@ def backend(request):
     if reason:
         pytest.skip(reason)
     return request.param
-
-
-def _outcome(call):
-    """'ok', or 'ExceptionName: message' of `call()`."""
-    try:
-        call()
-    except Exception as exc:         # noqa: BLE001  (returned, for the test to judge)
-        return f"{type(exc).__name__}: {exc}"
-    return "ok"
 
 
 def _digest(array):
