@@ -483,5 +483,7 @@ def test_a_failed_construction_leaves_nothing_to_free():
 
     with pytest.raises(RuntimeError, match="no driver"):
         Failing(4, 4)
-    with pytest.raises(ValueError, match="max_height must be between 1 and 16384"):
+    with pytest.raises(ValueError, match="max_height must be a positive number of pixels, not 0"):
         FakeContext(4, 0)
+    with pytest.raises(ValueError, match=f"max_width must be at most {FakeContext.max_size} "):
+        FakeContext(FakeContext.max_size + 1, 4)

@@ -19,26 +19,13 @@ A backend implements `_create`, `_bind`, `_unbind` and `_destroy`.
 """
 
 import contextlib
-import operator
 import threading
 
 from .. import _mjr
 from . import _current
+from ._sizes import pixels
 
 _DESCRIPTION = {"egl": "EGL", "osmesa": "OSMesa", "glfw": "GLFW"}
-
-
-def _size(value, name, limit):
-    """A positive int of at most `limit` pixels, or TypeError/ValueError naming `name`."""
-    if isinstance(value, bool):
-        raise TypeError(f"{name} must be an int, not bool")
-    try:
-        size = operator.index(value)
-    except TypeError:
-        raise TypeError(f"{name} must be an int, not {type(value).__name__}") from None
-    if not 0 < size <= limit:
-        raise ValueError(f"{name} must be between 1 and {limit} pixels, got {size}")
-    return size
 
 
 class GLContextBase:
@@ -55,8 +42,8 @@ class GLContextBase:
         """
         self._native = None      # the C handle; None before creation and once freed
         self._thread = None      # ident of the thread it is current on, or None
-        self._max_width = _size(max_width, "max_width", self.max_size)
-        self._max_height = _size(max_height, "max_height", self.max_size)
+        self._max_width = pixels(max_width, "max_width", self.max_size)
+        self._max_height = pixels(max_height, "max_height", self.max_size)
         self._native = self._create(self._max_width, self._max_height)
 
     # --------------------------------------------------------- backend hooks

@@ -9,32 +9,21 @@ import operator
 
 import numpy as np
 
+from ._sizes import pixels
+
 # the largest offscreen buffer side accepted (OpenGL's renderbuffer limit on Mesa and
 # common GPUs); MuJoCo reports a larger one the driver refuses as an error of its own
 MAX_BUFFER = 16384
 
 
-def count(value, name):
-    """`value` as a positive int; TypeError or ValueError naming `name`."""
-    if isinstance(value, (bool, np.bool_)) or not hasattr(value, "__index__"):
-        raise TypeError(f"{name} must be an int, not {type(value).__name__}")
-    value = operator.index(value)
-    if value <= 0:
-        raise ValueError(f"{name} must be a positive number of pixels, not {value}")
-    return value
-
-
 def buffer_side(value, name):
     """A side for update_offscreen_size: a positive int of at most MAX_BUFFER."""
-    value = count(value, name)
-    if value > MAX_BUFFER:
-        raise ValueError(f"{name} must be at most {MAX_BUFFER} pixels, not {value}")
-    return value
+    return pixels(value, name, MAX_BUFFER)
 
 
 def image_size(width, height, buffer_width, buffer_height):
     """(width, height), positive and within an offscreen buffer of that size."""
-    width, height = count(width, "width"), count(height, "height")
+    width, height = pixels(width, "width"), pixels(height, "height")
     if width > buffer_width or height > buffer_height:
         need = f"{max(width, buffer_width)}, {max(height, buffer_height)}"
         wide, high = need.split(", ")

@@ -28,22 +28,10 @@ from .._functions import mj_name2id, mjr_render, mjr_setBuffer, mjv_defaultFreeC
 from ..model import MjModel
 from ..structs import MjrContext, MjrRect, MjvCamera, MjvOption, MjvScene
 from . import _readout, context
+from ._sizes import pixels
 
 _SEGMENT, _IDCOLOR = int(mjtRndFlag.mjRND_SEGMENT), int(mjtRndFlag.mjRND_IDCOLOR)
 _ALL = int(mjtCatBit.mjCAT_ALL)
-
-
-def _pixels(value, name):
-    """A positive int size, or TypeError/ValueError naming it."""
-    if isinstance(value, bool):
-        raise TypeError(f"{name} must be an int, not bool")
-    try:
-        size = operator.index(value)
-    except TypeError:
-        raise TypeError(f"{name} must be an int, not {type(value).__name__}") from None
-    if size <= 0:
-        raise ValueError(f"{name} must be a positive number of pixels, got {size}")
-    return size
 
 
 def _max_geom(value):
@@ -97,7 +85,7 @@ class Renderer:
         self._mjr_context = None
         if not isinstance(model, MjModel):
             raise TypeError(f"model must be an mjcffi.MjModel, not {type(model).__name__}")
-        height, width = _pixels(height, "height"), _pixels(width, "width")
+        height, width = pixels(height, "height"), pixels(width, "width")
         _fits(width, model.vis.global_.offwidth, "width", "offwidth")
         _fits(height, model.vis.global_.offheight, "height", "offheight")
         self._model = model
