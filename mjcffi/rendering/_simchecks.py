@@ -9,11 +9,12 @@ import operator
 
 import numpy as np
 
+from ._base import GLContextBase
 from ._sizes import pixels
 
-# the largest offscreen buffer side accepted (OpenGL's renderbuffer limit on Mesa and
-# common GPUs); MuJoCo reports a larger one the driver refuses as an error of its own
-MAX_BUFFER = 16384
+# the largest offscreen buffer side accepted: the GL contexts' own limit (OpenGL's
+# renderbuffer limit on Mesa and common GPUs)
+MAX_BUFFER = GLContextBase.max_size
 
 
 def buffer_side(value, name):
