@@ -118,6 +118,11 @@ _GL_MADE = {"mjrContext"}
 # mjsDefault.joint): a wrapper that keeps the spec alive, not a raw pointer.
 _SPEC_STRUCT = re.compile(r"^(mjSpec|mjs[A-Z]\w*)$")
 
+# Handle kinds of the spec structs' fields that read and write as Python values
+# (mjcffi/structs/_elements.py): str, NumPy arrays, bytes, lists of str or arrays.
+_CONVERTED = {"mjString", "mjDoubleVec", "mjFloatVec", "mjIntVec", "mjByteVec", "mjStringVec",
+              "mjIntVecVec", "mjFloatVecVec"}
+
 # Structs whose memory MuJoCo allocates and frees itself: no Python constructor here
 # (mjcffi.MjModel and mjcffi.MjData add theirs).  Spec elements live inside an
 # mjSpec; a zero-filled mjCache, mjResource or mjSDF has NULL internals that
@@ -161,10 +166,12 @@ class _Context:
         self.described = described
         self.header_of = header_of
         self.functions = decls.functions
+        self.comment_of = {name: d.doc for name, d in notes.functions.items()}
         # the comment on a struct's opening line, e.g. "physics options"
         self.comment = {name: notes.fields.get((s.tag, ""), "")
                         for name, s in decls.structs.items()}
         self.handles = handle_kinds(decls)
+        self.enums = set(decls.enums)
         self._sizing = None
         self.bounds = {}           # struct -> its bounds, see _bounds
 
@@ -293,6 +300,9 @@ def _field_line(ctx, struct, f, refs):
     """The class-body text for one field: `name = builder(...)` or a property."""
     attr = attr_name(f.name)
     doc = repr(f.doc)
+    if f.kind == "scalar" and f.elem in ctx.enums and _SPEC_STRUCT.match(struct) \
+            and struct != "mjsElement":
+        return f"{attr} = enum_field({f.name!r}, {f.elem!r}, {doc})"
     if f.kind == "scalar":
         options = _scalar_options(ctx, struct, f)
         return f"{attr}: {_pytype(f.elem)} = scalar({f.name!r}, {doc}{options})"
@@ -306,6 +316,10 @@ def _field_line(ctx, struct, f, refs):
         return f"{attr}: str = cstring({f.name!r}, {doc})"
     if f.kind == "pointer" and not extents and f.ctype.count("*") == 1:
         if f.elem in ctx.handles:
+            if _SPEC_STRUCT.match(struct) and f.elem in _CONVERTED:
+                if f.elem == "mjString":
+                    return f"{attr}: str = string_field({f.name!r}, {doc})"
+                return f"{attr} = vector_field({f.name!r}, {f.elem!r}, {doc})"
             return f"{attr} = handle_field({f.name!r}, {f.elem!r}, {doc})"
         if ctx.is_struct(f.elem) and _SPEC_STRUCT.match(struct) and _SPEC_STRUCT.match(f.elem):
             refs.add(f.elem)
@@ -658,9 +672,83 @@ def _class(ctx, struct, refs):
             eager.append(builder)
         else:
             lines.append("    " + line)
+    lines += _element_methods(ctx, struct)
     if eager:
         lines += ["", "    _eager = eager("] + [f"        {e}," for e in eager] + ["    )"]
     return lines
+
+
+def _element_methods(ctx, struct):
+    """A spec element's `name`, and its add_* / wrap_* methods, one per mjs_add* /
+    mjs_wrap* function taking the struct first (mjs_addGeom: MjsBody.add_geom)."""
+    if not _SPEC_STRUCT.match(struct) or struct == "mjsElement":
+        return []
+    infos = ctx.described[struct]
+    lines = []
+    if struct != "mjSpec" and infos and infos[0].name == "element" and \
+            all(f.name != "name" for f in infos):
+        lines.append("    name: str = element_name()")
+    if struct != "mjSpec" and infos and infos[0].name == "element":
+        lines.append("    __setattr__ = element_setattr()")
+    for fname, func in ctx.functions.items():
+        match = re.fullmatch(r"mjs_(add|wrap)(\w+)", fname)
+        if not match or not func.args or func.args[0].type.base != struct \
+                or not _SPEC_STRUCT.match(func.restype.base or ""):
+            continue
+        method = f"{match.group(1)}_{match.group(2).lower()}"
+        params = tuple((a.name, _adder_kind(a)) for a in func.args[1:])
+        doc = ctx.comment_of.get(fname, "") or fname
+        result = class_name(func.restype.base)
+        lines.append(f"    {method} = adder({fname!r}, lambda: {result}, {params!r}, {doc!r})")
+    if struct == "mjsFrame":
+        lines += _frame_methods(ctx)
+    return lines
+
+
+# What a body has that a frame does not (the official MjsFrame has no add_freejoint:
+# a free joint cannot sit in a frame).
+_NOT_IN_FRAMES = {"mjs_addFreeJoint"}
+
+
+def _frame_methods(ctx):
+    """MjsFrame.add_*: the body's mjs_add* functions, placing the element in the frame."""
+    lines = []
+    for fname, func in ctx.functions.items():
+        match = re.fullmatch(r"mjs_add(\w+)", fname)
+        if not match or fname in _NOT_IN_FRAMES or not func.args \
+                or func.args[0].type.base != "mjsBody":
+            continue
+        params = tuple((a.name, _adder_kind(a)) for a in func.args[1:])
+        doc = ctx.comment_of.get(fname, "") or fname
+        result = class_name(func.restype.base)
+        lines.append(f"    add_{match.group(1).lower()} = frame_adder({fname!r}, lambda: {result}, "
+                     f"{params!r}, {doc!r})")
+    return lines
+
+
+def _adder_kind(arg):
+    """How an add_* method takes one argument of its mjs_add* function (see
+    mjcffi/structs/_elements.py, adder)."""
+    if arg.name == "def" and arg.type.base == "mjsDefault":
+        return "default"
+    if arg.type.base == "char" and arg.type.pointer == 1:
+        return "text"
+    if arg.type.base == "double" and not arg.type.pointer:
+        return "double"
+    if _SPEC_STRUCT.match(arg.type.base) and arg.type.pointer == 1:
+        return arg.type.base
+    raise ValueError(f"no add_* argument for {arg.type.decl} {arg.name}")
+
+
+def _element_classes(ctx, structs):
+    """The line registering the element classes of mjspec.h with _elements.register."""
+    names = [class_name(s) for s in structs
+             if s != "mjsElement" and _SPEC_STRUCT.match(s) and ctx.described[s]
+             and ctx.described[s][0].name == "element" and s != "mjSpec"]
+    if not names:
+        return []
+    wrapped = textwrap.wrap(", ".join(names), 88)
+    return ["register(" + "\n         ".join(wrapped) + ")"]
 
 
 def generate(described, decls, header_texts, notes):
@@ -683,6 +771,7 @@ def generate(described, decls, header_texts, notes):
             body += _class(ctx, struct, refs) + ["", ""]
             if struct not in _EXTENDED:
                 exports[class_name(struct)] = module
+        body += _element_classes(ctx, modules[module])
         others = sorted({ctx.module_of(r) for r in refs} - {module})
         deps[module] = others
         head = [outputs.HEADER_PY.rstrip("\n"),
@@ -743,11 +832,19 @@ def _imports(body):
     lines.append(line)
     for module, names in (("_checks", sorted(set(_MADE_FOR.values()))),
                           ("_handles", ("handle_field", "struct_ref")),
+                          ("_elements", ("adder", "element_name", "element_setattr", "enum_field",
+                                         "frame_adder", "register",
+                                         "string_field", "vector_field")),
                           ("._mjr", ("context_repr", "make_context", "new_context",
                                      "release_context"))):
         used = [n for n in names if re.search(rf"\b{n}\(", text)]
         if used:
-            lines.append(f"from .{module} import {', '.join(used)}")
+            line = f"from .{module} import {', '.join(used)}"
+            if len(line) > 99:
+                indent = " " * len(f"from .{module} import (")
+                wrapped = textwrap.wrap(", ".join(used), 99 - len(indent))
+                line = (f"from .{module} import (" + f"\n{indent}".join(wrapped) + ")")
+            lines.append(line)
     return lines
 
 

@@ -549,13 +549,14 @@ for cname, make in {"mjSpec": lambda *args: s, **_SPEC_MAKERS}.items():
     for field in STRUCTS[cname]:
         if field.kind != "pointer" or field.extents:
             continue
-        value = getattr(obj, field.name)
-        if field.elem in _handles.KINDS:
+        if field.elem in _handles.KINDS:     # the attribute is a str, array or list
+            value = _handles.handle(obj, field.name)
             assert type(value) is _handles.KINDS[field.elem], (cname, field.name, value)
-            assert value == getattr(obj, field.name) and value._root is obj._root
+            assert value == _handles.handle(obj, field.name) and value._root is obj._root
             fields += 1
             kept.append(value)
         elif field.elem.startswith("mjs"):
+            value = getattr(obj, field.name)
             assert value._cname == field.elem and value._root is obj._root, (cname, field.name)
             refs += 1
             kept.append(value)
@@ -589,9 +590,11 @@ body = F.mjs_addBody(F.mjs_findBody(s, "world"), None)
 texture = F.mjs_addTexture(s, None)
 flex = F.mjs_addFlex(s)
 mesh = F.mjs_addMesh(s, None)
-handles = {"mjString": body.childclass, "mjStringVec": texture.cubefiles,
-           "mjDoubleVec": body.userdata, "mjIntVec": flex.elem, "mjFloatVec": mesh.uservert,
-           "mjIntVecVec": None, "mjFloatVecVec": None, "mjByteVec": texture.data}
+h = _handles.handle       # the attributes read as str and arrays: the raw handles
+handles = {"mjString": h(body, "childclass"), "mjStringVec": h(texture, "cubefiles"),
+           "mjDoubleVec": h(body, "userdata"), "mjIntVec": h(flex, "elem"),
+           "mjFloatVec": h(mesh, "uservert"), "mjIntVecVec": None, "mjFloatVecVec": None,
+           "mjByteVec": h(texture, "data")}
 m = mjcffi.MjModel.from_xml_string("<mujoco/>")
 d = mjcffi.MjData(m)
 others = {"another kind": lambda kind: next(h for k, h in handles.items() if k != kind and h),
@@ -642,17 +645,19 @@ def test_item_every_handle_argument_takes_only_a_handle_of_its_kind():
 
 
 def test_item_handles_work_where_mujoco_takes_them():
+    from mjcffi.structs import _handles
     s = F.mj_makeSpec()
     body = F.mjs_addBody(F.mjs_findBody(s, "world"), None)
-    F.mjs_setString(body.childclass, "main")
-    assert F.mjs_getString(body.childclass) == "main"
-    F.mjs_setDouble(body.userdata, np.arange(3.0))
-    assert F.mjs_getDouble(body.userdata).tolist() == [0, 1, 2]
+    childclass = _handles.handle(body, "childclass")
+    F.mjs_setString(childclass, "main")
+    assert F.mjs_getString(childclass) == "main" == body.childclass
+    F.mjs_setDouble(_handles.handle(body, "userdata"), np.arange(3.0))
+    assert F.mjs_getDouble(_handles.handle(body, "userdata")).tolist() == [0, 1, 2]
     F.mjs_setName(body.element, "b")
     name = F.mjs_getName(body.element)
     assert type(name).__name__ == "MjStringHandle" and F.mjs_getString(name) == "b"
     assert name == F.mjs_getName(body.element) and hash(name) == hash(F.mjs_getName(body.element))
-    assert name != body.childclass and "MjStringHandle (mjString *) at 0x" in repr(name)
+    assert name != childclass and "MjStringHandle (mjString *) at 0x" in repr(name)
     with pytest.raises(TypeError, match="has no constructor"):
         type(name)()
     import pickle

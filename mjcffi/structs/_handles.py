@@ -12,7 +12,8 @@ calls below).
 
 Hand-written, beside the generated modules of mjcffi/structs/ that use it (as
 is _checks.py); it imports only the compiled module.  MjSpec (issue 13) builds
-str and list attributes on top of these handles.
+str and list attributes on top of these handles
+(_elements.py); `handle` gives the handle of such a field for the raw functions.
 """
 
 from .._library import ffi
@@ -128,6 +129,16 @@ def handle_field(name, kind, doc):
         pointer = getattr(self._ptr, name)
         return None if pointer == NULL else cls._wrap(pointer, self._root)
     return property(get, doc=doc)
+
+
+def handle(obj, name):
+    """The handle in field `name` of the spec struct `obj` (MjsBody.childclass as an
+    MjStringHandle), for the raw mjs_* functions: the attributes themselves read
+    and write these fields as str, arrays and lists (mjcffi/structs/_elements.py)."""
+    from .._structinfo import STRUCTS
+    kind = next(f.elem for f in STRUCTS[obj._cname] if f.name == name)
+    pointer = getattr(obj._ptr, name)
+    return None if pointer == NULL else KINDS[kind]._wrap(pointer, obj._root)
 
 
 def struct_ref(name, wrapper, doc):

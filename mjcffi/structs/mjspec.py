@@ -2,7 +2,9 @@
 """The structs of MuJoCo's mjspec.h, as thin classes over C memory."""
 
 from .._views import FixedArray, Nested, Struct, scalar, struct_type, text
-from ._handles import handle_field, struct_ref
+from ._handles import struct_ref
+from ._elements import (adder, element_name, element_setattr, enum_field, frame_adder, register,
+                        string_field, vector_field)
 from .mjmodel import MjLROpt, MjOption, MjStatistic, MjVisual
 
 __all__ = ['MjsElement', 'MjsCompiler', 'MjsAuthored', 'MjSpec', 'MjsOrientation', 'MjsPlugin', 'MjsBody', 'MjsFrame', 'MjsJoint', 'MjsGeom', 'MjsSite', 'MjsCamera', 'MjsLight', 'MjsFlex', 'MjsMesh', 'MjsHField', 'MjsSkin', 'MjsTexture', 'MjsMaterial', 'MjsPair', 'MjsExclude', 'MjsEquality', 'MjsTendon', 'MjsWrap', 'MjsActuator', 'MjsSensor', 'MjsNumeric', 'MjsText', 'MjsTuple', 'MjsKey', 'MjsDefault']
@@ -46,17 +48,17 @@ class MjsCompiler(Struct):
     discardvisual: bool = scalar('discardvisual', 'discard visual geoms in parser', boolean=True)
     usethread: bool = scalar('usethread', 'use multiple threads to speed up compiler', boolean=True)
     fusestatic: bool = scalar('fusestatic', 'fuse static bodies with parent', boolean=True)
-    inertiafromgeom: int = scalar('inertiafromgeom', 'use geom inertias')
+    inertiafromgeom = enum_field('inertiafromgeom', 'mjtInertiaFromGeom', 'use geom inertias')
     inertiagrouprange = FixedArray('inertiagrouprange', 'int', lambda s: (2,), 'range of geom groups used to compute inertia')
     saveinertial: bool = scalar('saveinertial', 'save explicit inertial clause for all bodies to XML', boolean=True)
     savecompiled: bool = scalar('savecompiled', 'save values as compiled, not as written in the spec', boolean=True)
     savecanonical: bool = scalar('savecanonical', 'save quaternions and radians, not the notation of the spec', boolean=True)
     alignfree: bool = scalar('alignfree', 'align free joints with inertial frame', boolean=True)
-    conflict: int = scalar('conflict', 'conflict resolution for attach')
-    passthrough: int = scalar('passthrough', 'assets left by reference (bitmask)')
+    conflict = enum_field('conflict', 'mjtConflict', 'conflict resolution for attach')
+    passthrough = enum_field('passthrough', 'mjtPassthrough', 'assets left by reference (bitmask)')
     LRopt = Nested('LRopt', lambda: MjLROpt, 'options for lengthrange computation')
-    meshdir = handle_field('meshdir', 'mjString', 'mesh and hfield directory')
-    texturedir = handle_field('texturedir', 'mjString', 'texture directory')
+    meshdir: str = string_field('meshdir', 'mesh and hfield directory')
+    texturedir: str = string_field('texturedir', 'texture directory')
     authored: int = scalar('authored', 'bitmask of authored compiler fields')
 
 
@@ -96,7 +98,7 @@ class MjSpec(Struct):
         raise TypeError('MjSpec has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    modelname = handle_field('modelname', 'mjString', 'model name')
+    modelname: str = string_field('modelname', 'model name')
     compiler = Nested('compiler', lambda: MjsCompiler, 'compiler options')
     strippath: bool = scalar('strippath', 'automatically strip paths from mesh files', boolean=True)
     option = Nested('option', lambda: MjOption, 'physics options')
@@ -117,10 +119,28 @@ class MjSpec(Struct):
     njmax: int = scalar('njmax', '(deprecated) max number of constraints')
     nconmax: int = scalar('nconmax', '(deprecated) max number of detected contacts')
     nstack: int = scalar('nstack', '(deprecated) number of mjtNums in mjData stack')
-    comment = handle_field('comment', 'mjString', 'comment at top of XML')
-    modelfiledir = handle_field('modelfiledir', 'mjString', 'path to model file')
+    comment: str = string_field('comment', 'comment at top of XML')
+    modelfiledir: str = string_field('modelfiledir', 'path to model file')
     hasImplicitPluginElem: bool = scalar('hasImplicitPluginElem', 'already encountered an implicit plugin sensor/actuator', boolean=True)
     authored = Nested('authored', lambda: MjsAuthored, '')
+    add_actuator = adder('mjs_addActuator', lambda: MjsActuator, (('def', 'default'),), 'Add actuator.')
+    add_sensor = adder('mjs_addSensor', lambda: MjsSensor, (), 'Add sensor.')
+    add_flex = adder('mjs_addFlex', lambda: MjsFlex, (), 'Add flex.')
+    add_pair = adder('mjs_addPair', lambda: MjsPair, (('def', 'default'),), 'Add contact pair.')
+    add_exclude = adder('mjs_addExclude', lambda: MjsExclude, (), 'Add excluded body pair.')
+    add_equality = adder('mjs_addEquality', lambda: MjsEquality, (('def', 'default'),), 'Add equality.')
+    add_tendon = adder('mjs_addTendon', lambda: MjsTendon, (('def', 'default'),), 'Add tendon.')
+    add_numeric = adder('mjs_addNumeric', lambda: MjsNumeric, (), 'Add numeric.')
+    add_text = adder('mjs_addText', lambda: MjsText, (), 'Add text.')
+    add_tuple = adder('mjs_addTuple', lambda: MjsTuple, (), 'Add tuple.')
+    add_key = adder('mjs_addKey', lambda: MjsKey, (), 'Add keyframe.')
+    add_plugin = adder('mjs_addPlugin', lambda: MjsPlugin, (), 'Add plugin.')
+    add_default = adder('mjs_addDefault', lambda: MjsDefault, (('classname', 'text'), ('parent', 'mjsDefault')), 'Add default.')
+    add_mesh = adder('mjs_addMesh', lambda: MjsMesh, (('def', 'default'),), 'Add mesh.')
+    add_hfield = adder('mjs_addHField', lambda: MjsHField, (), 'Add height field.')
+    add_skin = adder('mjs_addSkin', lambda: MjsSkin, (), 'Add skin.')
+    add_texture = adder('mjs_addTexture', lambda: MjsTexture, (('def', 'default'),), 'Add texture.')
+    add_material = adder('mjs_addMaterial', lambda: MjsMaterial, (('def', 'default'),), 'Add material.')
 
 
 class MjsOrientation(Struct):
@@ -134,7 +154,7 @@ class MjsOrientation(Struct):
     def __init__(self, *args, **kwargs):
         raise TypeError('MjsOrientation has no constructor: MuJoCo creates it')
 
-    type: int = scalar('type', 'active orientation specifier')
+    type = enum_field('type', 'mjtOrientation', 'active orientation specifier')
     axisangle = FixedArray('axisangle', 'double', lambda s: (4,), 'axis and angle')
     xyaxes = FixedArray('xyaxes', 'double', lambda s: (6,), 'x and y axes')
     zaxis = FixedArray('zaxis', 'double', lambda s: (3,), 'z axis (minimal rotation)')
@@ -154,10 +174,11 @@ class MjsPlugin(Struct):
         raise TypeError('MjsPlugin has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    name = handle_field('name', 'mjString', 'instance name')
-    plugin_name = handle_field('plugin_name', 'mjString', 'plugin name')
+    name: str = string_field('name', 'instance name')
+    plugin_name: str = string_field('plugin_name', 'plugin name')
     active: bool = scalar('active', 'is the plugin active', boolean=True)
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    info: str = string_field('info', 'message appended to compiler errors')
+    __setattr__ = element_setattr()
 
 
 class MjsBody(Struct):
@@ -173,7 +194,7 @@ class MjsBody(Struct):
         raise TypeError('MjsBody has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    childclass = handle_field('childclass', 'mjString', 'childclass name')
+    childclass: str = string_field('childclass', 'childclass name')
     pos = FixedArray('pos', 'double', lambda s: (3,), 'frame position')
     quat = FixedArray('quat', 'double', lambda s: (4,), 'frame orientation')
     alt = Nested('alt', lambda: MjsOrientation, 'frame alternative orientation')
@@ -185,13 +206,23 @@ class MjsBody(Struct):
     fullinertia = FixedArray('fullinertia', 'double', lambda s: (6,), 'non-axis-aligned inertia matrix')
     mocap: bool = scalar('mocap', 'is this a mocap body', boolean=True)
     gravcomp: float = scalar('gravcomp', 'gravity compensation')
-    sleep: int = scalar('sleep', 'sleep policy')
+    sleep = enum_field('sleep', 'mjtSleepPolicy', 'sleep policy')
     simple: int = scalar('simple', 'simple body optimization (0: false, 1: auto)')
     fuse: int = scalar('fuse', 'fuse with parent when static (0: false, 1: auto)')
-    userdata = handle_field('userdata', 'mjDoubleVec', 'user data')
+    userdata = vector_field('userdata', 'mjDoubleVec', 'user data')
     explicitinertial: bool = scalar('explicitinertial', 'whether to save the body with explicit inertial clause', boolean=True)
     plugin = Nested('plugin', lambda: MjsPlugin, 'passive force plugin')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
+    add_body = adder('mjs_addBody', lambda: MjsBody, (('def', 'default'),), 'Add child body to body; return child.')
+    add_site = adder('mjs_addSite', lambda: MjsSite, (('def', 'default'),), 'Add site to body; return site spec.')
+    add_joint = adder('mjs_addJoint', lambda: MjsJoint, (('def', 'default'),), 'Add joint to body.')
+    add_freejoint = adder('mjs_addFreeJoint', lambda: MjsJoint, (), 'Add freejoint to body.')
+    add_geom = adder('mjs_addGeom', lambda: MjsGeom, (('def', 'default'),), 'Add geom to body.')
+    add_camera = adder('mjs_addCamera', lambda: MjsCamera, (('def', 'default'),), 'Add camera to body.')
+    add_light = adder('mjs_addLight', lambda: MjsLight, (('def', 'default'),), 'Add light to body.')
+    add_frame = adder('mjs_addFrame', lambda: MjsFrame, (('parentframe', 'mjsFrame'),), 'Add frame to body.')
 
 
 class MjsFrame(Struct):
@@ -207,14 +238,23 @@ class MjsFrame(Struct):
         raise TypeError('MjsFrame has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    childclass = handle_field('childclass', 'mjString', 'childclass name')
+    childclass: str = string_field('childclass', 'childclass name')
     pos = FixedArray('pos', 'double', lambda s: (3,), 'position')
     quat = FixedArray('quat', 'double', lambda s: (4,), 'orientation')
     alt = Nested('alt', lambda: MjsOrientation, 'alternative orientation')
     scale = FixedArray('scale', 'double', lambda s: (3,), "scale of the frame's contents")
-    scaling: int = scalar('scaling', 'physical policy of the scale')
+    scaling = enum_field('scaling', 'mjtScaling', 'physical policy of the scale')
     massscale: float = scalar('massscale', 'mass factor of the contents; 0: ratio of volumes')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
+    add_body = frame_adder('mjs_addBody', lambda: MjsBody, (('def', 'default'),), 'Add child body to body; return child.')
+    add_site = frame_adder('mjs_addSite', lambda: MjsSite, (('def', 'default'),), 'Add site to body; return site spec.')
+    add_joint = frame_adder('mjs_addJoint', lambda: MjsJoint, (('def', 'default'),), 'Add joint to body.')
+    add_geom = frame_adder('mjs_addGeom', lambda: MjsGeom, (('def', 'default'),), 'Add geom to body.')
+    add_camera = frame_adder('mjs_addCamera', lambda: MjsCamera, (('def', 'default'),), 'Add camera to body.')
+    add_light = frame_adder('mjs_addLight', lambda: MjsLight, (('def', 'default'),), 'Add light to body.')
+    add_frame = frame_adder('mjs_addFrame', lambda: MjsFrame, (('parentframe', 'mjsFrame'),), 'Add frame to body.')
 
 
 class MjsJoint(Struct):
@@ -230,21 +270,21 @@ class MjsJoint(Struct):
         raise TypeError('MjsJoint has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    type: int = scalar('type', 'joint type')
+    type = enum_field('type', 'mjtJoint', 'joint type')
     pos = FixedArray('pos', 'double', lambda s: (3,), 'anchor position')
     axis = FixedArray('axis', 'double', lambda s: (3,), 'joint axis')
     ref: float = scalar('ref', 'value at reference configuration: qpos0')
-    align: int = scalar('align', 'align free joint with body com')
+    align = enum_field('align', 'mjtAlignFree', 'align free joint with body com')
     stiffness = FixedArray('stiffness', 'double', lambda s: (3,), 'stiffness coefficients')
     springref: float = scalar('springref', 'spring reference value: qpos_spring')
     springyield: float = scalar('springyield', 'plastic yield threshold (0: elastic)')
     springdamper = FixedArray('springdamper', 'double', lambda s: (2,), 'timeconst, dampratio')
-    limited: int = scalar('limited', 'does joint have limits')
+    limited = enum_field('limited', 'mjtLimited', 'does joint have limits')
     range = FixedArray('range', 'double', lambda s: (2,), 'joint limits')
     margin: float = scalar('margin', 'margin value for joint limit detection')
     solref_limit = FixedArray('solref_limit', 'mjtNum', lambda s: (2,), 'solver reference: joint limits')
     solimp_limit = FixedArray('solimp_limit', 'mjtNum', lambda s: (5,), 'solver impedance: joint limits')
-    actfrclimited: int = scalar('actfrclimited', 'are actuator forces on joint limited')
+    actfrclimited = enum_field('actfrclimited', 'mjtLimited', 'are actuator forces on joint limited')
     actfrcrange = FixedArray('actfrcrange', 'double', lambda s: (2,), 'actuator force limits')
     armature: float = scalar('armature', 'armature inertia (mass for slider)')
     damping = FixedArray('damping', 'double', lambda s: (3,), 'damping coefficients')
@@ -253,8 +293,10 @@ class MjsJoint(Struct):
     solimp_friction = FixedArray('solimp_friction', 'mjtNum', lambda s: (5,), 'solver impedance: dof friction')
     group: int = scalar('group', 'group')
     actgravcomp: bool = scalar('actgravcomp', 'is gravcomp force applied via actuators', boolean=True)
-    userdata = handle_field('userdata', 'mjDoubleVec', 'user data')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    userdata = vector_field('userdata', 'mjDoubleVec', 'user data')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsGeom(Struct):
@@ -270,7 +312,7 @@ class MjsGeom(Struct):
         raise TypeError('MjsGeom has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    type: int = scalar('type', 'geom type')
+    type = enum_field('type', 'mjtGeom', 'geom type')
     pos = FixedArray('pos', 'double', lambda s: (3,), 'position')
     quat = FixedArray('quat', 'double', lambda s: (4,), 'orientation')
     alt = Nested('alt', lambda: MjsOrientation, 'alternative orientation')
@@ -290,19 +332,21 @@ class MjsGeom(Struct):
     adhesion: float = scalar('adhesion', 'adhesive force of contacts')
     mass: float = scalar('mass', 'used to compute density')
     density: float = scalar('density', 'used to compute mass and inertia from volume or surface')
-    typeinertia: int = scalar('typeinertia', 'selects between surface and volume inertia')
+    typeinertia = enum_field('typeinertia', 'mjtGeomInertia', 'selects between surface and volume inertia')
     fluid_ellipsoid: float = scalar('fluid_ellipsoid', 'whether ellipsoid-fluid model is active')
     fluid_coefs = FixedArray('fluid_coefs', 'mjtNum', lambda s: (5,), 'ellipsoid-fluid interaction coefs')
-    material = handle_field('material', 'mjString', 'name of material')
+    material: str = string_field('material', 'name of material')
     rgba = FixedArray('rgba', 'float', lambda s: (4,), 'rgba when material is omitted')
     group: int = scalar('group', 'group')
     castshadow: bool = scalar('castshadow', 'does geom cast shadows', boolean=True)
-    hfieldname = handle_field('hfieldname', 'mjString', 'heightfield attached to geom')
-    meshname = handle_field('meshname', 'mjString', 'mesh attached to geom')
+    hfieldname: str = string_field('hfieldname', 'heightfield attached to geom')
+    meshname: str = string_field('meshname', 'mesh attached to geom')
     fitscale: float = scalar('fitscale', 'scale mesh uniformly')
-    userdata = handle_field('userdata', 'mjDoubleVec', 'user data')
+    userdata = vector_field('userdata', 'mjDoubleVec', 'user data')
     plugin = Nested('plugin', lambda: MjsPlugin, 'sdf plugin')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsSite(Struct):
@@ -323,13 +367,15 @@ class MjsSite(Struct):
     alt = Nested('alt', lambda: MjsOrientation, 'alternative orientation')
     fromto = FixedArray('fromto', 'double', lambda s: (6,), 'alternative for capsule, cylinder, box, ellipsoid')
     size = FixedArray('size', 'double', lambda s: (3,), 'geom size')
-    type: int = scalar('type', 'geom type')
-    material = handle_field('material', 'mjString', 'name of material')
+    type = enum_field('type', 'mjtGeom', 'geom type')
+    material: str = string_field('material', 'name of material')
     group: int = scalar('group', 'group')
     rgba = FixedArray('rgba', 'float', lambda s: (4,), 'rgba when material is omitted')
-    meshname = handle_field('meshname', 'mjString', 'mesh attached to site')
-    userdata = handle_field('userdata', 'mjDoubleVec', 'user data')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    meshname: str = string_field('meshname', 'mesh attached to site')
+    userdata = vector_field('userdata', 'mjDoubleVec', 'user data')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsCamera(Struct):
@@ -348,9 +394,9 @@ class MjsCamera(Struct):
     pos = FixedArray('pos', 'double', lambda s: (3,), 'position')
     quat = FixedArray('quat', 'double', lambda s: (4,), 'orientation')
     alt = Nested('alt', lambda: MjsOrientation, 'alternative orientation')
-    mode: int = scalar('mode', 'tracking mode')
-    targetbody = handle_field('targetbody', 'mjString', 'target body for tracking/targeting')
-    proj: int = scalar('proj', 'camera projection type')
+    mode = enum_field('mode', 'mjtCamLight', 'tracking mode')
+    targetbody: str = string_field('targetbody', 'target body for tracking/targeting')
+    proj = enum_field('proj', 'mjtProjection', 'camera projection type')
     resolution = FixedArray('resolution', 'int', lambda s: (2,), 'resolution (pixel)')
     output: int = scalar('output', 'bit flags for output type')
     fovy: float = scalar('fovy', 'y-field of view')
@@ -361,8 +407,10 @@ class MjsCamera(Struct):
     focal_pixel = FixedArray('focal_pixel', 'float', lambda s: (2,), 'focal length (pixel)')
     principal_length = FixedArray('principal_length', 'float', lambda s: (2,), 'principal point (length)')
     principal_pixel = FixedArray('principal_pixel', 'float', lambda s: (2,), 'principal point (pixel)')
-    userdata = handle_field('userdata', 'mjDoubleVec', 'user data')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    userdata = vector_field('userdata', 'mjDoubleVec', 'user data')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsLight(Struct):
@@ -380,11 +428,11 @@ class MjsLight(Struct):
     element = struct_ref('element', lambda: MjsElement, 'element type')
     pos = FixedArray('pos', 'double', lambda s: (3,), 'position')
     dir = FixedArray('dir', 'double', lambda s: (3,), 'direction')
-    mode: int = scalar('mode', 'tracking mode')
-    targetbody = handle_field('targetbody', 'mjString', 'target body for targeting')
+    mode = enum_field('mode', 'mjtCamLight', 'tracking mode')
+    targetbody: str = string_field('targetbody', 'target body for targeting')
     active: bool = scalar('active', 'is light active', boolean=True)
-    type: int = scalar('type', 'type of light')
-    texture = handle_field('texture', 'mjString', 'texture name for image lights')
+    type = enum_field('type', 'mjtLightType', 'type of light')
+    texture: str = string_field('texture', 'texture name for image lights')
     castshadow: bool = scalar('castshadow', 'does light cast shadows', boolean=True)
     bulbradius: float = scalar('bulbradius', 'bulb radius, for soft shadows')
     intensity: float = scalar('intensity', 'intensity, in candelas')
@@ -396,7 +444,9 @@ class MjsLight(Struct):
     ambient = FixedArray('ambient', 'float', lambda s: (3,), 'ambient color')
     diffuse = FixedArray('diffuse', 'float', lambda s: (3,), 'diffuse color')
     specular = FixedArray('specular', 'float', lambda s: (3,), 'specular color')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsFlex(Struct):
@@ -426,14 +476,14 @@ class MjsFlex(Struct):
     radius: float = scalar('radius', 'radius around primitive element')
     size = FixedArray('size', 'double', lambda s: (3,), 'vertex bounding box half sizes in qpos0')
     flatskin: bool = scalar('flatskin', 'render flex skin with flat shading', boolean=True)
-    selfcollide: int = scalar('selfcollide', 'mode for flex self collision')
+    selfcollide = enum_field('selfcollide', 'mjtFlexSelf', 'mode for flex self collision')
     passive: int = scalar('passive', 'mode for passive collisions')
     activelayers: int = scalar('activelayers', 'number of active element layers in 3D')
     group: int = scalar('group', 'group for visualization')
     edgestiffness: float = scalar('edgestiffness', 'edge stiffness')
     edgedamping: float = scalar('edgedamping', 'edge damping')
     rgba = FixedArray('rgba', 'float', lambda s: (4,), 'rgba when material is omitted')
-    material = handle_field('material', 'mjStringVec', 'name of material used for rendering')
+    material = vector_field('material', 'mjStringVec', 'name of material used for rendering')
     young: float = scalar('young', "Young's modulus")
     poisson: float = scalar('poisson', "Poisson's ratio")
     shear: float = scalar('shear', '1D torsion shear modulus; 0: young / (2 (1 + poisson))')
@@ -442,18 +492,20 @@ class MjsFlex(Struct):
     stressyield = FixedArray('stressyield', 'double', lambda s: (2,), 'yield strain thresholds (stretch, bend); 0: elastic')
     elastic2d: int = scalar('elastic2d', '2D passive forces; 0: none, 1: bending, 2: stretching, 3: both')
     elastic3d: int = scalar('elastic3d', 'experimental 3D material (mjSpec only); 0: Saint')
-    section: int = scalar('section', '1D cross-section (mjtFlexSection)')
+    section = enum_field('section', 'mjtFlexSection', '1D cross-section (mjtFlexSection)')
     sectionsize = FixedArray('sectionsize', 'double', lambda s: (2,), '1D box cross-section half-sizes')
     cellcount = FixedArray('cellcount', 'int', lambda s: (3,), 'grid cell count for finite cell method')
     order: int = scalar('order', 'interpolation order (1: trilinear, 2: quadratic)')
-    nodebody = handle_field('nodebody', 'mjStringVec', 'node body names')
-    vertbody = handle_field('vertbody', 'mjStringVec', 'vertex body names')
-    node = handle_field('node', 'mjDoubleVec', 'node positions')
-    vert = handle_field('vert', 'mjDoubleVec', 'vertex positions')
-    elem = handle_field('elem', 'mjIntVec', 'element vertex ids')
-    texcoord = handle_field('texcoord', 'mjFloatVec', 'vertex texture coordinates')
-    elemtexcoord = handle_field('elemtexcoord', 'mjIntVec', 'element texture coordinates')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    nodebody = vector_field('nodebody', 'mjStringVec', 'node body names')
+    vertbody = vector_field('vertbody', 'mjStringVec', 'vertex body names')
+    node = vector_field('node', 'mjDoubleVec', 'node positions')
+    vert = vector_field('vert', 'mjDoubleVec', 'vertex positions')
+    elem = vector_field('elem', 'mjIntVec', 'element vertex ids')
+    texcoord = vector_field('texcoord', 'mjFloatVec', 'vertex texture coordinates')
+    elemtexcoord = vector_field('elemtexcoord', 'mjIntVec', 'element texture coordinates')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsMesh(Struct):
@@ -469,27 +521,29 @@ class MjsMesh(Struct):
         raise TypeError('MjsMesh has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    content_type = handle_field('content_type', 'mjString', 'content type of file')
-    file = handle_field('file', 'mjString', 'mesh file')
+    content_type: str = string_field('content_type', 'content type of file')
+    file: str = string_field('file', 'mesh file')
     refpos = FixedArray('refpos', 'double', lambda s: (3,), 'reference position')
     refquat = FixedArray('refquat', 'double', lambda s: (4,), 'reference orientation')
     scale = FixedArray('scale', 'double', lambda s: (3,), 'rescale mesh')
-    inertia: int = scalar('inertia', 'inertia type (convex, legacy, exact, shell)')
+    inertia = enum_field('inertia', 'mjtMeshInertia', 'inertia type (convex, legacy, exact, shell)')
     smoothnormal: bool = scalar('smoothnormal', 'do not exclude large-angle faces from normals', boolean=True)
     needsdf: bool = scalar('needsdf', 'compute sdf from mesh', boolean=True)
     maxhullvert: int = scalar('maxhullvert', 'maximum vertex count for the convex hull')
-    uservert = handle_field('uservert', 'mjFloatVec', 'user vertex data')
-    usernormal = handle_field('usernormal', 'mjFloatVec', 'user normal data')
-    usertexcoord = handle_field('usertexcoord', 'mjFloatVec', 'user texcoord data')
-    userface = handle_field('userface', 'mjIntVec', 'user vertex indices')
-    userfacenormal = handle_field('userfacenormal', 'mjIntVec', 'user face normal indices')
-    userfacetexcoord = handle_field('userfacetexcoord', 'mjIntVec', 'user texcoord indices')
-    usernode = handle_field('usernode', 'mjDoubleVec', 'user volume node coordinates')
-    usertet = handle_field('usertet', 'mjIntVec', 'user tetrahedral cell indices')
+    uservert = vector_field('uservert', 'mjFloatVec', 'user vertex data')
+    usernormal = vector_field('usernormal', 'mjFloatVec', 'user normal data')
+    usertexcoord = vector_field('usertexcoord', 'mjFloatVec', 'user texcoord data')
+    userface = vector_field('userface', 'mjIntVec', 'user vertex indices')
+    userfacenormal = vector_field('userfacenormal', 'mjIntVec', 'user face normal indices')
+    userfacetexcoord = vector_field('userfacetexcoord', 'mjIntVec', 'user texcoord indices')
+    usernode = vector_field('usernode', 'mjDoubleVec', 'user volume node coordinates')
+    usertet = vector_field('usertet', 'mjIntVec', 'user tetrahedral cell indices')
     plugin = Nested('plugin', lambda: MjsPlugin, 'sdf plugin')
-    material = handle_field('material', 'mjString', 'name of material')
+    material: str = string_field('material', 'name of material')
     octree_maxdepth: int = scalar('octree_maxdepth', 'max octree depth')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsHField(Struct):
@@ -505,13 +559,15 @@ class MjsHField(Struct):
         raise TypeError('MjsHField has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    content_type = handle_field('content_type', 'mjString', 'content type of file')
-    file = handle_field('file', 'mjString', 'file: (nrow, ncol, [elevation data])')
+    content_type: str = string_field('content_type', 'content type of file')
+    file: str = string_field('file', 'file: (nrow, ncol, [elevation data])')
     size = FixedArray('size', 'double', lambda s: (4,), 'hfield size (ignore referencing geom size)')
     nrow: int = scalar('nrow', 'number of rows')
     ncol: int = scalar('ncol', 'number of columns')
-    userdata = handle_field('userdata', 'mjFloatVec', 'user-provided elevation data')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    userdata = vector_field('userdata', 'mjFloatVec', 'user-provided elevation data')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsSkin(Struct):
@@ -527,20 +583,22 @@ class MjsSkin(Struct):
         raise TypeError('MjsSkin has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    file = handle_field('file', 'mjString', 'skin file')
-    material = handle_field('material', 'mjString', 'name of material used for rendering')
+    file: str = string_field('file', 'skin file')
+    material: str = string_field('material', 'name of material used for rendering')
     rgba = FixedArray('rgba', 'float', lambda s: (4,), 'rgba when material is omitted')
     inflate: float = scalar('inflate', 'inflate in normal direction')
     group: int = scalar('group', 'group for visualization')
-    vert = handle_field('vert', 'mjFloatVec', 'vertex positions')
-    texcoord = handle_field('texcoord', 'mjFloatVec', 'texture coordinates')
-    face = handle_field('face', 'mjIntVec', 'faces')
-    bodyname = handle_field('bodyname', 'mjStringVec', 'body names')
-    bindpos = handle_field('bindpos', 'mjFloatVec', 'bind pos')
-    bindquat = handle_field('bindquat', 'mjFloatVec', 'bind quat')
-    vertid = handle_field('vertid', 'mjIntVecVec', 'vertex ids')
-    vertweight = handle_field('vertweight', 'mjFloatVecVec', 'vertex weights')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    vert = vector_field('vert', 'mjFloatVec', 'vertex positions')
+    texcoord = vector_field('texcoord', 'mjFloatVec', 'texture coordinates')
+    face = vector_field('face', 'mjIntVec', 'faces')
+    bodyname = vector_field('bodyname', 'mjStringVec', 'body names')
+    bindpos = vector_field('bindpos', 'mjFloatVec', 'bind pos')
+    bindquat = vector_field('bindquat', 'mjFloatVec', 'bind quat')
+    vertid = vector_field('vertid', 'mjIntVecVec', 'vertex ids')
+    vertweight = vector_field('vertweight', 'mjFloatVecVec', 'vertex weights')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsTexture(Struct):
@@ -556,10 +614,10 @@ class MjsTexture(Struct):
         raise TypeError('MjsTexture has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    type: int = scalar('type', 'texture type')
-    colorspace: int = scalar('colorspace', 'colorspace')
-    builtin: int = scalar('builtin', 'builtin type')
-    mark: int = scalar('mark', 'mark type')
+    type = enum_field('type', 'mjtTexture', 'texture type')
+    colorspace = enum_field('colorspace', 'mjtColorSpace', 'colorspace')
+    builtin = enum_field('builtin', 'mjtBuiltin', 'builtin type')
+    mark = enum_field('mark', 'mjtMark', 'mark type')
     rgb1 = FixedArray('rgb1', 'double', lambda s: (3,), 'first color for builtin')
     rgb2 = FixedArray('rgb2', 'double', lambda s: (3,), 'second color for builtin')
     markrgb = FixedArray('markrgb', 'double', lambda s: (3,), 'mark color')
@@ -567,16 +625,18 @@ class MjsTexture(Struct):
     height: int = scalar('height', 'height in pixels (square for cube and skybox)')
     width: int = scalar('width', 'width in pixels')
     nchannel: int = scalar('nchannel', 'number of channels')
-    content_type = handle_field('content_type', 'mjString', 'content type of file')
-    file = handle_field('file', 'mjString', 'png file to load; use for all sides of cube')
+    content_type: str = string_field('content_type', 'content type of file')
+    file: str = string_field('file', 'png file to load; use for all sides of cube')
     gridsize = FixedArray('gridsize', 'int', lambda s: (2,), 'size of grid for composite file; (1,1)-repeat')
     gridlayout: str = text('gridlayout', 12, 'row-major: L,R,F,B,U,D for faces; . for unused')
-    cubefiles = handle_field('cubefiles', 'mjStringVec', 'different file for each side of the cube')
-    data = handle_field('data', 'mjByteVec', 'texture data')
+    cubefiles = vector_field('cubefiles', 'mjStringVec', 'different file for each side of the cube')
+    data = vector_field('data', 'mjByteVec', 'texture data')
     hflip: bool = scalar('hflip', 'horizontal flip', boolean=True)
     vflip: bool = scalar('vflip', 'vertical flip', boolean=True)
-    embed: int = scalar('embed', 'pixels in the model, or the file by reference')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    embed = enum_field('embed', 'mjtEmbed', 'pixels in the model, or the file by reference')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsMaterial(Struct):
@@ -592,7 +652,7 @@ class MjsMaterial(Struct):
         raise TypeError('MjsMaterial has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    textures = handle_field('textures', 'mjStringVec', 'names of textures (empty: none)')
+    textures = vector_field('textures', 'mjStringVec', 'names of textures (empty: none)')
     texuniform: bool = scalar('texuniform', 'make texture cube uniform', boolean=True)
     texrepeat = FixedArray('texrepeat', 'float', lambda s: (2,), 'texture repetition for 2D mapping')
     emission: float = scalar('emission', 'emission')
@@ -602,7 +662,9 @@ class MjsMaterial(Struct):
     metallic: float = scalar('metallic', 'metallic')
     roughness: float = scalar('roughness', 'roughness')
     rgba = FixedArray('rgba', 'float', lambda s: (4,), 'rgba')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsPair(Struct):
@@ -618,8 +680,8 @@ class MjsPair(Struct):
         raise TypeError('MjsPair has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    geomname1 = handle_field('geomname1', 'mjString', 'name of geom 1')
-    geomname2 = handle_field('geomname2', 'mjString', 'name of geom 2')
+    geomname1: str = string_field('geomname1', 'name of geom 1')
+    geomname2: str = string_field('geomname2', 'name of geom 2')
     condim: int = scalar('condim', 'contact dimensionality')
     solref = FixedArray('solref', 'mjtNum', lambda s: (2,), 'solver reference, normal direction')
     solreffriction = FixedArray('solreffriction', 'mjtNum', lambda s: (2,), 'solver reference, frictional directions')
@@ -628,7 +690,9 @@ class MjsPair(Struct):
     gap: float = scalar('gap', 'additional contact detection buffer')
     adhesion: float = scalar('adhesion', 'adhesive force of contacts')
     friction = FixedArray('friction', 'double', lambda s: (5,), 'full contact friction')
-    info = handle_field('info', 'mjString', 'message appended to errors')
+    info: str = string_field('info', 'message appended to errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsExclude(Struct):
@@ -644,9 +708,11 @@ class MjsExclude(Struct):
         raise TypeError('MjsExclude has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    bodyname1 = handle_field('bodyname1', 'mjString', 'name of geom 1')
-    bodyname2 = handle_field('bodyname2', 'mjString', 'name of geom 2')
-    info = handle_field('info', 'mjString', 'message appended to errors')
+    bodyname1: str = string_field('bodyname1', 'name of geom 1')
+    bodyname2: str = string_field('bodyname2', 'name of geom 2')
+    info: str = string_field('info', 'message appended to errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsEquality(Struct):
@@ -662,15 +728,17 @@ class MjsEquality(Struct):
         raise TypeError('MjsEquality has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    type: int = scalar('type', 'constraint type')
+    type = enum_field('type', 'mjtEq', 'constraint type')
     data = FixedArray('data', 'double', lambda s: (12,), 'type-dependent data')
     active: bool = scalar('active', 'is equality initially active', boolean=True)
-    name1 = handle_field('name1', 'mjString', 'name of object 1')
-    name2 = handle_field('name2', 'mjString', 'name of object 2')
-    objtype: int = scalar('objtype', 'type of both objects')
+    name1: str = string_field('name1', 'name of object 1')
+    name2: str = string_field('name2', 'name of object 2')
+    objtype = enum_field('objtype', 'mjtObj', 'type of both objects')
     solref = FixedArray('solref', 'mjtNum', lambda s: (2,), 'solver reference')
     solimp = FixedArray('solimp', 'mjtNum', lambda s: (5,), 'solver impedance')
-    info = handle_field('info', 'mjString', 'message appended to errors')
+    info: str = string_field('info', 'message appended to errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsTendon(Struct):
@@ -694,19 +762,25 @@ class MjsTendon(Struct):
     solref_friction = FixedArray('solref_friction', 'mjtNum', lambda s: (2,), 'solver reference: tendon friction')
     solimp_friction = FixedArray('solimp_friction', 'mjtNum', lambda s: (5,), 'solver impedance: tendon friction')
     armature: float = scalar('armature', 'inertia associated with tendon velocity')
-    limited: int = scalar('limited', 'does tendon have limits')
-    actfrclimited: int = scalar('actfrclimited', 'does tendon have actuator force limits')
+    limited = enum_field('limited', 'mjtLimited', 'does tendon have limits')
+    actfrclimited = enum_field('actfrclimited', 'mjtLimited', 'does tendon have actuator force limits')
     range = FixedArray('range', 'double', lambda s: (2,), 'length limits')
     actfrcrange = FixedArray('actfrcrange', 'double', lambda s: (2,), 'actuator force limits')
     margin: float = scalar('margin', 'margin value for tendon limit detection')
     solref_limit = FixedArray('solref_limit', 'mjtNum', lambda s: (2,), 'solver reference: tendon limits')
     solimp_limit = FixedArray('solimp_limit', 'mjtNum', lambda s: (5,), 'solver impedance: tendon limits')
-    material = handle_field('material', 'mjString', 'name of material for rendering')
+    material: str = string_field('material', 'name of material for rendering')
     width: float = scalar('width', 'width for rendering')
     rgba = FixedArray('rgba', 'float', lambda s: (4,), 'rgba when material is omitted')
     group: int = scalar('group', 'group')
-    userdata = handle_field('userdata', 'mjDoubleVec', 'user data')
-    info = handle_field('info', 'mjString', 'message appended to errors')
+    userdata = vector_field('userdata', 'mjDoubleVec', 'user data')
+    info: str = string_field('info', 'message appended to errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
+    wrap_site = adder('mjs_wrapSite', lambda: MjsWrap, (('name', 'text'),), 'Wrap site using tendon.')
+    wrap_geom = adder('mjs_wrapGeom', lambda: MjsWrap, (('name', 'text'), ('sidesite', 'text')), 'Wrap geom using tendon.')
+    wrap_joint = adder('mjs_wrapJoint', lambda: MjsWrap, (('name', 'text'), ('coef', 'double')), 'Wrap joint using tendon.')
+    wrap_pulley = adder('mjs_wrapPulley', lambda: MjsWrap, (('divisor', 'double'),), 'Wrap pulley using tendon.')
 
 
 class MjsWrap(Struct):
@@ -722,8 +796,10 @@ class MjsWrap(Struct):
         raise TypeError('MjsWrap has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    type: int = scalar('type', 'wrap type')
-    info = handle_field('info', 'mjString', 'message appended to errors')
+    type = enum_field('type', 'mjtWrap', 'wrap type')
+    info: str = string_field('info', 'message appended to errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsActuator(Struct):
@@ -739,41 +815,43 @@ class MjsActuator(Struct):
         raise TypeError('MjsActuator has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    type: int = scalar('type', 'element the actuator is written with')
-    gaintype: int = scalar('gaintype', 'gain type')
+    type = enum_field('type', 'mjtActuator', 'element the actuator is written with')
+    gaintype = enum_field('gaintype', 'mjtGain', 'gain type')
     gainprm = FixedArray('gainprm', 'double', lambda s: (10,), 'gain parameters')
-    biastype: int = scalar('biastype', 'bias type')
+    biastype = enum_field('biastype', 'mjtBias', 'bias type')
     biasprm = FixedArray('biasprm', 'double', lambda s: (10,), 'bias parameters')
-    dyntype: int = scalar('dyntype', 'dynamics type')
+    dyntype = enum_field('dyntype', 'mjtDyn', 'dynamics type')
     dynprm = FixedArray('dynprm', 'double', lambda s: (10,), 'dynamics parameters')
     actdim: int = scalar('actdim', 'number of activation variables')
     ctrlspec: int = scalar('ctrlspec', 'input signature, scoped by gaintype; 0: type default')
     velrange = FixedArray('velrange', 'double', lambda s: (2,), 'range of the velocity-setpoint input (pid)')
     ffrange = FixedArray('ffrange', 'double', lambda s: (2,), 'range of the feedforward input (pid)')
     actearly: bool = scalar('actearly', 'apply next activations to qfrc', boolean=True)
-    trntype: int = scalar('trntype', 'transmission type')
+    trntype = enum_field('trntype', 'mjtTrn', 'transmission type')
     gear = FixedArray('gear', 'double', lambda s: (6,), 'length and transmitted force scaling')
-    target = handle_field('target', 'mjString', 'name of transmission target')
-    refsite = handle_field('refsite', 'mjString', 'reference site, for site transmission')
-    slidersite = handle_field('slidersite', 'mjString', 'site defining cylinder, for slider-crank')
+    target: str = string_field('target', 'name of transmission target')
+    refsite: str = string_field('refsite', 'reference site, for site transmission')
+    slidersite: str = string_field('slidersite', 'site defining cylinder, for slider-crank')
     cranklength: float = scalar('cranklength', 'crank length, for slider-crank')
     lengthrange = FixedArray('lengthrange', 'double', lambda s: (2,), 'transmission length range')
     inheritrange: float = scalar('inheritrange', 'automatic range setting for position and intvelocity')
     damping = FixedArray('damping', 'double', lambda s: (3,), 'damping coefficients')
     armature: float = scalar('armature', 'armature inertia')
-    ctrllimited: int = scalar('ctrllimited', 'are control limits defined')
+    ctrllimited = enum_field('ctrllimited', 'mjtLimited', 'are control limits defined')
     ctrlrange = FixedArray('ctrlrange', 'double', lambda s: (2,), 'control range')
-    forcelimited: int = scalar('forcelimited', 'are force limits defined')
+    forcelimited = enum_field('forcelimited', 'mjtLimited', 'are force limits defined')
     forcerange = FixedArray('forcerange', 'double', lambda s: (2,), 'force range')
-    actlimited: int = scalar('actlimited', 'are activation limits defined')
+    actlimited = enum_field('actlimited', 'mjtLimited', 'are activation limits defined')
     actrange = FixedArray('actrange', 'double', lambda s: (2,), 'activation range')
     group: int = scalar('group', 'group')
     nsample: int = scalar('nsample', 'number of samples in history buffer')
     interp: int = scalar('interp', 'interpolation order (0=ZOH, 1=linear, 2=cubic)')
     delay: float = scalar('delay', 'delay time in seconds; 0: no delay')
-    userdata = handle_field('userdata', 'mjDoubleVec', 'user data')
+    userdata = vector_field('userdata', 'mjDoubleVec', 'user data')
     plugin = Nested('plugin', lambda: MjsPlugin, 'actuator plugin')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsSensor(Struct):
@@ -789,14 +867,14 @@ class MjsSensor(Struct):
         raise TypeError('MjsSensor has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    type: int = scalar('type', 'type of sensor')
-    objtype: int = scalar('objtype', 'type of sensorized object')
-    objname = handle_field('objname', 'mjString', 'name of sensorized object')
-    reftype: int = scalar('reftype', 'type of referenced object')
-    refname = handle_field('refname', 'mjString', 'name of referenced object')
+    type = enum_field('type', 'mjtSensor', 'type of sensor')
+    objtype = enum_field('objtype', 'mjtObj', 'type of sensorized object')
+    objname: str = string_field('objname', 'name of sensorized object')
+    reftype = enum_field('reftype', 'mjtObj', 'type of referenced object')
+    refname: str = string_field('refname', 'name of referenced object')
     intprm = FixedArray('intprm', 'int', lambda s: (3,), 'integer parameters')
-    datatype: int = scalar('datatype', 'data type for sensor measurement')
-    needstage: int = scalar('needstage', 'compute stage needed to simulate sensor')
+    datatype = enum_field('datatype', 'mjtDataType', 'data type for sensor measurement')
+    needstage = enum_field('needstage', 'mjtStage', 'compute stage needed to simulate sensor')
     dim: int = scalar('dim', 'number of scalar outputs')
     cutoff: float = scalar('cutoff', 'cutoff for real and positive datatypes')
     noise: float = scalar('noise', 'noise stdev')
@@ -804,9 +882,11 @@ class MjsSensor(Struct):
     interp: int = scalar('interp', 'interpolation order (0=ZOH, 1=linear, 2=cubic)')
     delay: float = scalar('delay', 'delay time in seconds')
     interval = FixedArray('interval', 'double', lambda s: (2,), '[period, time_prev] in seconds')
-    userdata = handle_field('userdata', 'mjDoubleVec', 'user data')
+    userdata = vector_field('userdata', 'mjDoubleVec', 'user data')
     plugin = Nested('plugin', lambda: MjsPlugin, 'sensor plugin')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsNumeric(Struct):
@@ -822,9 +902,11 @@ class MjsNumeric(Struct):
         raise TypeError('MjsNumeric has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    data = handle_field('data', 'mjDoubleVec', 'initialization data')
+    data = vector_field('data', 'mjDoubleVec', 'initialization data')
     size: int = scalar('size', 'array size, can be bigger than data size')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsText(Struct):
@@ -840,8 +922,10 @@ class MjsText(Struct):
         raise TypeError('MjsText has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    data = handle_field('data', 'mjString', 'text string')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    data: str = string_field('data', 'text string')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsTuple(Struct):
@@ -857,10 +941,12 @@ class MjsTuple(Struct):
         raise TypeError('MjsTuple has no constructor: MuJoCo creates it')
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
-    objtype = handle_field('objtype', 'mjIntVec', 'object types')
-    objname = handle_field('objname', 'mjStringVec', 'object names')
-    objprm = handle_field('objprm', 'mjDoubleVec', 'object parameters')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    objtype = vector_field('objtype', 'mjIntVec', 'object types')
+    objname = vector_field('objname', 'mjStringVec', 'object names')
+    objprm = vector_field('objprm', 'mjDoubleVec', 'object parameters')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsKey(Struct):
@@ -877,14 +963,16 @@ class MjsKey(Struct):
 
     element = struct_ref('element', lambda: MjsElement, 'element type')
     time: float = scalar('time', 'time')
-    qpos = handle_field('qpos', 'mjDoubleVec', 'qpos')
-    qvel = handle_field('qvel', 'mjDoubleVec', 'qvel')
-    act = handle_field('act', 'mjDoubleVec', 'act')
-    mpos = handle_field('mpos', 'mjDoubleVec', 'mocap pos')
-    mquat = handle_field('mquat', 'mjDoubleVec', 'mocap quat')
-    ctrl = handle_field('ctrl', 'mjDoubleVec', 'ctrl')
-    plastic = handle_field('plastic', 'mjDoubleVec', 'plastic')
-    info = handle_field('info', 'mjString', 'message appended to compiler errors')
+    qpos = vector_field('qpos', 'mjDoubleVec', 'qpos')
+    qvel = vector_field('qvel', 'mjDoubleVec', 'qvel')
+    act = vector_field('act', 'mjDoubleVec', 'act')
+    mpos = vector_field('mpos', 'mjDoubleVec', 'mocap pos')
+    mquat = vector_field('mquat', 'mjDoubleVec', 'mocap quat')
+    ctrl = vector_field('ctrl', 'mjDoubleVec', 'ctrl')
+    plastic = vector_field('plastic', 'mjDoubleVec', 'plastic')
+    info: str = string_field('info', 'message appended to compiler errors')
+    name: str = element_name()
+    __setattr__ = element_setattr()
 
 
 class MjsDefault(Struct):
@@ -913,3 +1001,11 @@ class MjsDefault(Struct):
     equality = struct_ref('equality', lambda: MjsEquality, 'equality defaults')
     tendon = struct_ref('tendon', lambda: MjsTendon, 'tendon defaults')
     actuator = struct_ref('actuator', lambda: MjsActuator, 'actuator defaults')
+    name: str = element_name()
+    __setattr__ = element_setattr()
+
+
+register(MjsPlugin, MjsBody, MjsFrame, MjsJoint, MjsGeom, MjsSite, MjsCamera, MjsLight, MjsFlex,
+         MjsMesh, MjsHField, MjsSkin, MjsTexture, MjsMaterial, MjsPair, MjsExclude, MjsEquality,
+         MjsTendon, MjsWrap, MjsActuator, MjsSensor, MjsNumeric, MjsText, MjsTuple, MjsKey,
+         MjsDefault)
