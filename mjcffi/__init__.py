@@ -53,6 +53,7 @@ _LAZY = {
     "mjRNDSTRING": "._stringtables", "mjTOPICSTRING": "._stringtables",
     "GLContext": ".gl_context",     # reads MUJOCO_GL; absent when it says disable, as official
     "Renderer": ".renderer",        # loads a GL backend on construction, not on import
+    "MjSpec": ".spec",              # the hand-written class over the generated mjSpec struct
 }
 
 

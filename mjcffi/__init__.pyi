@@ -13,6 +13,7 @@ from .log_config import MjLogConfig as MjLogConfig
 from .structs import *  # type: ignore[assignment]
 from .data import MjData as MjData
 from .model import MjModel as MjModel
+from .spec import MjSpec as MjSpec
 from .user_handlers import *
 from .vfs import MjVfs as MjVfs
 from .plugins import HEADERS_DIR as HEADERS_DIR, PLUGINS_DIR as PLUGINS_DIR

@@ -72,17 +72,20 @@ SUPPORT = {"_library", "_errors", "_views", "_marshal", "_arena", "_loading", "p
            # not named in the README's list, and importing nothing of the package
            "_aliases", "scenes", "_machine", "_build",
            # what the mjr_* functions check of their OpenGL context (issue 12)
-           "_mjr", "structs._checks", "structs._handles"}
+           "_mjr", "structs._checks", "structs._handles",
+           "structs._elements"}
 GENERATED = {"_functions", "_simgetters", "structs"}
 # Hand-written modules beside the generated struct classes, used by them and by the
 # support layer (the mjr_* checks): units of their own, in the support layer.
-OWN_UNITS = {"structs._checks", "structs._handles"}
+OWN_UNITS = {"structs._checks", "structs._handles", "structs._elements"}
 TOP = {"model", "data", "vfs", "log_config", "functions", "_overrides", "warning_errors",
        "user_handlers", "rollout", "_batch", "batch", "minimize", "sim", "accuracy",
        "__init__", "__main__",
        # rendering (issue 12): the package holds the OpenGL contexts (cffi and glfw only)
        # and the Renderer, which draws with the mjr_* functions; the official import paths
-       "rendering", "gl_context", "egl", "osmesa", "glfw", "renderer"}
+       "rendering", "gl_context", "egl", "osmesa", "glfw", "renderer",
+       # model editing (issue 13): the hand-written MjSpec over the generated struct
+       "spec"}
 TIER = {**{n: "table" for n in TABLES}, **{n: "support" for n in SUPPORT},
         **{n: "generated" for n in GENERATED}, **{n: "top" for n in TOP}, "_mjcffi": "compiled"}
 ALLOWED = {"table": set(), "compiled": set(),
