@@ -114,12 +114,14 @@ _MADE_FOR = {"mjvScene": "made_for"}
 # frees them, and records that context, which the mjr_* functions check.
 _GL_MADE = {"mjrContext"}
 
-# Pointer fields to another struct of the same spec (MjsBody.element,
-# mjsDefault.joint): a wrapper that keeps the spec alive, not a raw pointer.
+# Spec structs.  Their pointer fields to another spec struct (MjsBody.element,
+# mjsDefault.joint) give one wrapper, kept on the element's (member_ref), not a raw
+# pointer; their char arrays are MjCharVec (char_array).
 _SPEC_STRUCT = re.compile(r"^(mjSpec|mjs[A-Z]\w*)$")
 
 # Handle kinds of the spec structs' fields that read and write as Python values
-# (mjcffi/structs/_elements.py): str, NumPy arrays, bytes, lists of str or arrays.
+# (mjcffi/structs/_elements.py): str, live vectors of numbers, bytes, lists of str or
+# arrays.
 _CONVERTED = {"mjString", "mjDoubleVec", "mjFloatVec", "mjIntVec", "mjByteVec", "mjStringVec",
               "mjIntVecVec", "mjFloatVecVec"}
 
@@ -323,7 +325,7 @@ def _field_line(ctx, struct, f, refs):
             return f"{attr} = handle_field({f.name!r}, {f.elem!r}, {doc})"
         if ctx.is_struct(f.elem) and _SPEC_STRUCT.match(struct) and _SPEC_STRUCT.match(f.elem):
             refs.add(f.elem)
-            return f"{attr} = struct_ref({f.name!r}, lambda: {class_name(f.elem)}, {doc})"
+            return f"{attr} = member_ref({f.name!r}, lambda: {class_name(f.elem)}, {doc})"
     if f.kind == "pointer" and extents:
         if f.elem == "char" and f.name in _STRING_BLOBS:
             return (f"{attr}: bytes = chars({f.name!r}, "
@@ -346,6 +348,8 @@ def _array_line(ctx, struct, f, refs):
     """A fixed-size array field: text, rows of text, structs or numbers."""
     attr = attr_name(f.name)
     doc = repr(f.doc)
+    if f.elem == "char" and len(f.extents) == 1 and _SPEC_STRUCT.match(struct):
+        return f"{attr} = char_array({f.name!r}, {f.extents[0]}, {doc})"
     if f.elem == "char" and len(f.extents) == 1:
         return f"{attr}: str = text({f.name!r}, {f.extents[0]}, {doc})"
     if f.elem == "char" and len(f.extents) == 2:      # rows of bytes, as the official shows
@@ -688,7 +692,7 @@ def _element_methods(ctx, struct):
     if struct != "mjSpec" and infos and infos[0].name == "element" and \
             all(f.name != "name" for f in infos):
         lines.append("    name: str = element_name()")
-    if struct != "mjSpec" and infos and infos[0].name == "element":
+    if struct != "mjSpec":
         lines.append("    __setattr__ = element_setattr()")
     for fname, func in ctx.functions.items():
         match = re.fullmatch(r"mjs_(add|wrap)(\w+)", fname)
@@ -740,15 +744,30 @@ def _adder_kind(arg):
     raise ValueError(f"no add_* argument for {arg.type.decl} {arg.name}")
 
 
+# Elements that are no MjStruct: the official's union holds those a compiled model
+# binds to (model.bind), which a wrap and a default are not.
+_NOT_MJSTRUCT = {"mjsWrap", "mjsDefault"}
+
+
+def _elements_of(ctx, structs):
+    return [s for s in structs
+            if s != "mjsElement" and _SPEC_STRUCT.match(s) and ctx.described[s]
+            and ctx.described[s][0].name == "element" and s != "mjSpec"]
+
+
 def _element_classes(ctx, structs):
-    """The line registering the element classes of mjspec.h with _elements.register."""
-    names = [class_name(s) for s in structs
-             if s != "mjsElement" and _SPEC_STRUCT.match(s) and ctx.described[s]
-             and ctx.described[s][0].name == "element" and s != "mjSpec"]
-    if not names:
+    """The line registering the element classes of mjspec.h with _elements.register,
+    and MjStruct: the union of the element classes, as the official's."""
+    elements = _elements_of(ctx, structs)
+    if not elements:
         return []
-    wrapped = textwrap.wrap(", ".join(names), 88)
-    return ["register(" + "\n         ".join(wrapped) + ")"]
+    wrapped = textwrap.wrap(", ".join(class_name(s) for s in elements), 88)
+    members = textwrap.wrap(", ".join(class_name(s) for s in elements
+                                      if s not in _NOT_MJSTRUCT), 80)
+    return ["register(" + "\n         ".join(wrapped) + ")",
+            "",
+            "# the spec elements a compiled model binds to (model.bind), as a type",
+            "MjStruct = Union[" + "\n                 ".join(members) + "]"]
 
 
 def generate(described, decls, header_texts, notes):
@@ -783,6 +802,8 @@ def generate(described, decls, header_texts, notes):
             head.append(f"from .{other} import {', '.join(names)}")
         head.append("")
         public = [class_name(s) for s in modules[module] if s not in _EXTENDED]
+        if _elements_of(ctx, modules[module]):
+            public.append("MjStruct")          # a type, not a struct: not in MODULES
         head.append("__all__ = [" + ", ".join(repr(name) for name in public) + "]")
         head += ["", ""]
         files[f"mjcffi/structs/{module}.py"] = "\n".join(head + body).rstrip("\n") + "\n"
@@ -822,7 +843,8 @@ def _imports(body):
     """Import lines for exactly the names the class bodies use."""
     text = "\n".join(body)
     library = [n for n in ("ffi", "lib") if re.search(rf"\b{n}\.", text)]
-    lines = ["from numpy import ndarray", ""] if ": ndarray" in text else []
+    lines = ["from typing import Union", ""] if "= Union[" in text else []
+    lines += ["from numpy import ndarray", ""] if ": ndarray" in text else []
     lines += [f"from .._library import {', '.join(library)}"] if library else []
     views = [n for n in _VIEWS_NAMES if re.search(rf"\b{n}\(|\({n}\):", text)]
     line = "from .._views import " + ", ".join(views)
@@ -832,8 +854,8 @@ def _imports(body):
     lines.append(line)
     for module, names in (("_checks", sorted(set(_MADE_FOR.values()))),
                           ("_handles", ("handle_field", "struct_ref")),
-                          ("_elements", ("adder", "element_name", "element_setattr", "enum_field",
-                                         "frame_adder", "register",
+                          ("_elements", ("adder", "char_array", "element_name", "element_setattr",
+                                         "enum_field", "frame_adder", "member_ref", "register",
                                          "string_field", "vector_field")),
                           ("._mjr", ("context_repr", "make_context", "new_context",
                                      "release_context"))):

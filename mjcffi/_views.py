@@ -159,7 +159,8 @@ class FixedArray(Array):
     """An array embedded in the struct itself, such as mjOption.gravity[3]."""
 
     def build(self, obj):
-        return view(ffi.addressof(obj._ptr, self.name), self.dtype, self.shape(obj), obj._root)
+        return view(ffi.addressof(obj._ptr, self.name), self.dtype, self.shape(obj),
+                    _keeper(obj))
 
 
 class Nested(_Cached):
@@ -169,7 +170,19 @@ class Nested(_Cached):
         self.name, self.wrapper, self.__doc__ = name, wrapper, doc
 
     def build(self, obj):
-        return self.wrapper()._wrap(ffi.addressof(obj._ptr, self.name), obj._root)
+        inner = self.wrapper()._wrap(ffi.addressof(obj._ptr, self.name), obj._root)
+        if obj._views_hold_wrapper or "_keep" in obj.__dict__:
+            inner.__dict__["_keep"] = _keeper(obj)
+        return inner
+
+
+def _keeper(obj):
+    """What a view of `obj`'s memory keeps alive: its root; for a spec element (and the
+    structs nested in one) also the element's wrapper, so that the spec finds the
+    views still in use before MuJoCo frees the element (structs/_elements.py)."""
+    if obj._views_hold_wrapper:
+        return (obj._root, obj)
+    return obj.__dict__.get("_keep", obj._root)
 
 
 class FixedRecords(_Cached):
@@ -423,6 +436,7 @@ class Struct(metaclass=StructType):
     _fields: tuple = ()           # the fields' attribute names, in C order
     _repr_fields: tuple = ()      # fields shown by the short repr
     _plain: bool = True           # no pointers inside: copy and pickle by bytes
+    _views_hold_wrapper: bool = False   # spec elements: see _keeper
     _bounds: dict = {}            # scalar -> its Bound (ngeom within 0..maxgeom)
     _capacities: tuple = ()       # scalars bounded by their value when wrapped (see Bound)
     _allocated_views: tuple = ()  # AllocatedArray fields, bounded likewise
