@@ -1,8 +1,9 @@
 """The element kinds of a spec: the official list and lookup names, their mjtObj,
-and the mjs_as* cast from a generic mjsElement to the typed struct."""
+and the suffix of their mjs_as* cast and Mjs* class."""
+
+import operator
 
 from .._enums import mjtObj
-from .._library import lib
 
 # (official list name, lookup name, mjtObj, suffix of the mjs_as* cast and Mjs* class)
 KINDS = (
@@ -32,7 +33,6 @@ KINDS = (
     ("plugins", "plugin", mjtObj.mjOBJ_PLUGIN, "Plugin"),
 )
 
-BY_LIST = {kind[0]: kind for kind in KINDS}
 BY_LOOKUP = {kind[1]: kind for kind in KINDS}
 BY_TYPE = {int(kind[2]): kind for kind in KINDS}
 
@@ -46,14 +46,14 @@ def object_type(value):
             raise ValueError(f"unknown element type {value!r}; expected one of "
                              f"{', '.join(BY_LOOKUP)}")
         return kind[2]
-    if int(value) not in BY_TYPE:
+    try:
+        number = operator.index(value)
+    except TypeError:
+        raise TypeError(f"element type must be an mjtObj or a name such as 'site', "
+                        f"not {type(value).__name__}") from None
+    if number not in BY_TYPE:
         raise ValueError(f"element type {value!r} has no list in a spec")
-    return mjtObj(int(value))
-
-
-def cast(element, type_):
-    """The typed struct pointer (mjsBody *, ...) of generic `element`."""
-    return getattr(lib, "mjs_as" + BY_TYPE[int(type_)][3])(element)
+    return mjtObj(number)
 
 
 def wrapper_class(type_):

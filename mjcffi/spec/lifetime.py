@@ -1,140 +1,204 @@
-"""The element wrappers a spec hands out, and what becomes of them when MuJoCo frees
-their elements (delete, and a body's whole subtree with it).
+"""What becomes of element wrappers when MuJoCo frees elements of a spec.
 
-A spec hands out one wrapper per element (`spec.body('a') is spec.body('a')`), kept
-in a weak registry keyed by the mjsElement's address.  When MuJoCo frees elements,
-every registered wrapper whose element is gone has its pointer replaced by a
-`Deleted` marker: reading or writing a field, or passing it to a MuJoCo function,
-then raises instead of touching freed memory.  Every wrapper also holds the spec's
-own memory (its `_root`), so a spec collected while wrappers exist stays allocated.
+The element layer (structs/_elements.py) keeps the one wrapper of each element in
+a registry per spec and ends a wrapper on request (`invalidate_missing`): its use
+then raises instead of reading freed memory.  MuJoCo frees elements in delete (a
+body's whole subtree, and what refers to it), fuse_static, discard_visual,
+dedup_assets and a compile that fuses or discards.  `freeing` runs such an
+operation and then ends the wrapper of every element that is gone, in the spec's
+registry and in those of the specs attached to it (their elements moved into it).
+
+Before such an operation, if the spec has wrappers, the operation is first run on
+a copy of the spec (mj_copySpec keeps the order of every list; a copy costs about
+as much as listing the elements) to learn exactly which elements it frees: those
+of a body's subtree, and also those that refer to them (an actuator of a deleted
+joint).  A wrapper of one of them whose NumPy views are still held cannot be ended
+safely, those arrays pointing into the element: the element layer refuses the
+operation (ValueError).  The others have their values taken before the free, so
+that they still read as they were, as official.
 """
 
-import weakref
-
-from .._library import ffi
-
-
-class DeletedElementError(ValueError):
-    """A wrapper of an element that MuJoCo freed was used."""
-
-
-class Deleted:
-    """Stands in for the C pointer of a wrapper whose element was freed."""
-
-    __slots__ = ("_what",)
-
-    def __init__(self, what):
-        object.__setattr__(self, "_what", what)
-
-    def _fail(self, *args):
-        raise DeletedElementError(f"this {self._what} was deleted from its spec: "
-                                  f"it can no longer be used")
-
-    def __getattr__(self, name):
-        self._fail()
-
-    __setattr__ = __getitem__ = __setitem__ = _fail
-
-    def __eq__(self, other):
-        return self is other
-
-    __hash__ = object.__hash__
+from .. import _marshal as _m
+from .._library import ffi, lib
+from ..structs import _elements
+from ..structs.mjspec import MjsDefault
+from . import kinds
 
 
 def address(pointer):
+    """The address of a C pointer, as the registries key wrappers."""
     return int(ffi.cast("uintptr_t", pointer))
 
 
-class Registry:
-    """The live wrappers of one spec's elements, by mjsElement address."""
-
-    def __init__(self):
-        self._wrappers = weakref.WeakValueDictionary()
-
-    def get(self, element_address):
-        return self._wrappers.get(element_address)
-
-    def add(self, element_address, wrapper):
-        self._wrappers[element_address] = wrapper
-
-    def invalidate_missing(self, live_addresses):
-        """Mark dead every wrapper whose element is not among `live_addresses`."""
-        for element_address in list(self._wrappers.keys()):
-            if element_address not in live_addresses:
-                wrapper = self._wrappers.pop(element_address, None)
-                if wrapper is not None:
-                    invalidate(wrapper)
+def wrap(spec, pointer):
+    """The one wrapper of element `pointer` (an mjs* struct or its mjsElement) of
+    `spec`; None for NULL."""
+    return _elements.wrap(pointer, spec)
 
 
-_DEAD_CLASSES: dict = {}
+# ------------------------------------------------------------------ survey
+
+def _elements_in_order(c_spec):
+    """Every listed element of a spec: {mjtObj: [mjsElement *, ...]} in list order."""
+    found = {}
+    for type_ in kinds.BY_TYPE:
+        items = found[type_] = []
+        element = lib.mjcffi_guard_mjs_firstElement(c_spec, type_)
+        while element != ffi.NULL:
+            items.append(element)
+            element = lib.mjcffi_guard_mjs_nextElement(c_spec, element)
+    _m.check_error()
+    return found
 
 
-def _dead_class(cls):
-    """The subclass of `cls` that a wrapper of a freed element becomes: every
-    attribute read or write raises, so does passing it to a MuJoCo function (which
-    reads its `_cname` and `_ptr`)."""
-    dead = _DEAD_CLASSES.get(cls)
-    if dead is None:
-        name = cls.__name__
-
-        def fail(self, *args):
-            raise DeletedElementError(f"this {name} was deleted from its spec: "
-                                      f"it can no longer be used")
-
-        def getattribute(self, attr):
-            if attr in ("__class__", "__dict__"):
-                return object.__getattribute__(self, attr)
-            fail(self)
-
-        dead = type(name, (cls,), {
-            "__getattribute__": getattribute, "__setattr__": fail, "__delattr__": fail,
-            "__repr__": lambda self: f"<{name} (deleted)>", "__module__": cls.__module__,
-            "__eq__": lambda self, other: self is other, "__hash__": object.__hash__,
-            "__reduce__": fail, "__reduce_ex__": fail, "_deleted": True})
-        _DEAD_CLASSES[cls] = dead
-    return dead
+def _wraps(tendon):
+    """The mjsWrap elements of a tendon's path, in order."""
+    c_tendon = lib.mjs_asTendon(tendon)
+    return [lib.mjs_getWrap(c_tendon, i).element for i in range(lib.mjs_getWrapNum(c_tendon))]
 
 
-def invalidate(wrapper):
-    """Make any later use of `wrapper` raise DeletedElementError."""
-    wrapper.__dict__["_ptr"] = Deleted(type(wrapper).__name__)
-    object.__setattr__(wrapper, "__class__", _dead_class(type(wrapper)))
+def _live(c_spec):
+    """Addresses of the listed elements of a spec and of its tendons' wraps."""
+    listed = _elements_in_order(c_spec)
+    live = {address(e) for items in listed.values() for e in items}
+    for tendon in listed[int(kinds.mjtObj.mjOBJ_TENDON)]:
+        live.update(address(w) for w in _wraps(tendon))
+    return live
+
+
+def family(spec):
+    """`spec` and the specs attached to it, at any depth: their registries hold
+    wrappers of elements that now live in `spec`."""
+    found, todo = [], [spec]
+    while todo:
+        current = todo.pop()
+        if all(current is not f for f in found):
+            found.append(current)
+            todo.extend(current.__dict__.get("_attached", ()))
+    return found
+
+
+def _registered(specs):
+    return [w for s in specs for w in _elements.registered(s)]
+
+
+def _default_names_of(wrappers):
+    """{address: class name} of the default wrappers among `wrappers`: defaults are
+    in no list, so a default is found again by its name."""
+    return {address(w._ptr.element): w.name for w in wrappers
+            if isinstance(w, MjsDefault)}
+
+
+def end_missing(specs, defaults, taken=None):
+    """End every wrapper in the registries of `specs` whose element MuJoCo freed;
+    `defaults` is _default_names_of the wrappers from before the operation, `taken`
+    the values the freed ones keep (by element address)."""
+    alive = set()
+    for s in specs:
+        alive |= _live(s._ptr)
+        for name in defaults.values():
+            found = lib.mjs_findDefault(s._ptr, name.encode())
+            if found != ffi.NULL:
+                alive.add(address(found.element))
+    for s in specs:
+        _elements.invalidate_missing(s, alive, taken)
+
+
+# ----------------------------------------------------- freeing operations
+
+def _identity(pointer):
+    return pointer
+
+
+class _Counterparts:
+    """Maps an element of a spec to the same element of its copy (same list, same
+    place; a default by name; a wrap by its tendon and place).  A kind whose list
+    the copy does not keep whole (mj_copySpec leaves the plugins out) is not
+    mapped: its elements are `unmapped`."""
+
+    def __init__(self, c_spec, c_copy):
+        self.c_copy = c_copy
+        self.pairs, self.unmapped = {}, set()
+        ours, theirs = _elements_in_order(c_spec), _elements_in_order(c_copy)
+        for type_, items in ours.items():
+            if len(items) == len(theirs[type_]):
+                self.pairs.update((address(a), b) for a, b in zip(items, theirs[type_]))
+            else:
+                self.unmapped.update(address(a) for a in items)
+        tendons = int(kinds.mjtObj.mjOBJ_TENDON)
+        if len(ours[tendons]) == len(theirs[tendons]):
+            for a, b in zip(ours[tendons], theirs[tendons]):
+                self.pairs.update((address(x), y) for x, y in zip(_wraps(a), _wraps(b)))
+
+    def element(self, pointer):
+        """The copy's mjsElement * of `pointer` (an mjsElement * of the original)."""
+        if int(pointer.elemtype) == int(kinds.mjtObj.mjOBJ_DEFAULT):
+            found = lib.mjs_findDefault(self.c_copy, lib.mjs_getString(lib.mjs_getName(pointer)))
+            if found == ffi.NULL:
+                raise KeyError("the default is not in the copy")
+            return found.element
+        return self.pairs[address(pointer)]
+
+
+def _freed_by(spec, operation, wrappers):
+    """The wrappers among `wrappers` whose elements `operation` would free, learned
+    by running it on a copy of the spec.  Where that cannot be learned they all
+    count as freed, the safe side (their views refused, their values taken): those
+    of an unmapped kind, and all of them for a spec attached to another by
+    reference (MuJoCo refuses to copy one whose body was attached, and a copy of
+    one attached whole crashes when edited; MuJoCo refuses these operations on an
+    attached spec anyway)."""
+    if spec.__dict__.get("_by_reference"):
+        return list(wrappers)
+    c_copy = lib.mjcffi_guard_mj_copySpec(spec._ptr)
+    _m.check_error()
+    if c_copy == ffi.NULL:
+        return list(wrappers)
+    c_copy = ffi.gc(c_copy, lib.mj_deleteSpec)
+    counterparts = _Counterparts(spec._ptr, c_copy)
+    defaults = _default_names_of(wrappers)
+    try:
+        operation(c_copy, counterparts.element)
+    except Exception:       # noqa: BLE001  the real run raises it again, or not
+        pass
+    survivors = _live(c_copy)
+    doomed = []
+    for wrapper in wrappers:
+        key = address(wrapper._ptr.element)
+        if key in defaults:
+            gone = lib.mjs_findDefault(c_copy, defaults[key].encode()) == ffi.NULL
+        elif key in counterparts.pairs:
+            gone = address(counterparts.pairs[key]) not in survivors
+        else:
+            gone = key in counterparts.unmapped
+        if gone:
+            doomed.append(wrapper)
+    return doomed
+
+
+def freeing(spec, action, operation, rehearsal=None):
+    """Run `operation(c_spec, counterpart)`, which may free elements of `spec`, and
+    return its result; `counterpart(element)` is the element itself here, its
+    copy's in the dry run, which runs `rehearsal` (default: `operation`).
+
+    The dry run tells which wrappers lose their element.  If one of them still
+    has NumPy views held, the element layer refuses (ValueError, naming `action`)
+    and nothing is freed; otherwise their values are taken, so that after the
+    operation they read as they were (`body.name`, as official) while any other
+    use raises.  Every wrapper of a freed element is ended, even if the
+    operation raised."""
+    specs = family(spec)
+    wrappers = [w for w in _registered(specs) if not is_deleted(w)]
+    doomed = _freed_by(spec, rehearsal or operation, wrappers) if wrappers else []
+    _elements.check_releasable(doomed, action)
+    taken = {address(w._ptr.element): _elements.take(w) for w in doomed}
+    defaults = _default_names_of(wrappers)
+    try:
+        return operation(spec._ptr, _identity)
+    finally:
+        end_missing(specs, defaults, taken)
 
 
 def is_deleted(wrapper):
-    return isinstance(getattr(wrapper, "__dict__", {}).get("_ptr"), Deleted)
-
-
-# The generated element layer (structs/_elements.py) keeps one registry per spec for
-# every wrapper it makes, add_* included; where it is present, wrappers come from it
-# and so do their ends.  Otherwise each MjSpec keeps a Registry of its own.
-try:
-    from ..structs import _elements as _generated
-    _generated.wrap, _generated.invalidate_missing        # noqa: B018
-except (ImportError, AttributeError):
-    _generated = None  # type: ignore[assignment]
-
-
-def wrap_element(spec, element, type_, make):
-    """The one wrapper of `element` (an mjsElement *, not NULL) of `spec`; `make()`
-    builds it when neither registry has one."""
-    if _generated is not None:
-        return _generated.wrap(element, spec)
-    key = address(element)
-    wrapper = spec._registry.get(key)
-    if wrapper is None:
-        wrapper = make()
-        spec._registry.add(key, wrapper)
-    return wrapper
-
-
-def end_missing(spec, live_addresses):
-    """End every wrapper of `spec`'s elements that MuJoCo freed."""
-    if _generated is not None:
-        _generated.invalidate_missing(spec, live_addresses)
-    spec._registry.invalidate_missing(live_addresses)
-
-
-def deleted(wrapper):
-    """Whether `wrapper` was ended (by either layer)."""
-    return is_deleted(wrapper) or "_deleted" in wrapper.__dict__
+    """Whether `wrapper` is the ended wrapper of an element that MuJoCo freed."""
+    return isinstance(wrapper, _elements.DeletedElement)

@@ -2,31 +2,60 @@
 
 It builds on the generated struct class (fields such as `option`, `compiler`,
 `nkey`) and adds what is written by hand: making and parsing specs, compiling,
-saving, copying, element lookups and lists, delete and attach.  Element wrappers
-come from `_element`, one per element, so that `delete` can mark the wrappers of
-everything it frees (see lifetime.py).
+saving, copying, element lookups and lists, defaults, delete, attach, and the
+edits that free elements (fuse_static, discard_visual, dedup_assets).  Element
+wrappers come from the element layer, one per element; whatever frees elements
+goes through `lifetime.freeing`, which ends the wrappers of what was freed.
 """
 
 import copy as _copy
-import re
+import warnings
+
+import numpy as np
 
 from .. import _marshal as _m
+from .._enums import mjtCTimer
+from .._errors import FatalError
 from .._library import ffi, lib
-from .._overrides import _model, mj_compile, mj_saveXMLString
+from .._overrides import _model, mj_saveXMLString
+from ..plugins import load_bundled
+from .._views import Nested, view
+from ..structs import _elements
 from ..structs import mjspec as _generated
+from ..structs import mjmodel as _visualize
+from . import attach as _attach
 from . import kinds, lifetime
-from .assets import vfs_of
+from .assets import check_assets, relative_names, vfs_pointer
 
 
 def _spec_error(c_spec, what):
     return ValueError(_m.string(lib.mjs_getError(c_spec)) or f"{what} failed")
 
 
-def _parsed(pointer, error, what):
+def _call(guard, *args):
+    """A guarded MuJoCo call's result, after raising what it left (FatalError)."""
+    result = guard(*args)
     _m.check_error()
-    if pointer == ffi.NULL:
-        raise ValueError(_m.error_text(error, what))
-    return pointer
+    return result
+
+
+def _both_given(include, assets, vfs):
+    if vfs is not None and (include is not None or assets is not None):
+        raise ValueError("Cannot specify both 'vfs' and 'include'/'assets'.")
+
+
+def _label(element):
+    """How an error names `element`: "MjsBody 'arm'", or its class alone."""
+    name = getattr(element, "name", "")
+    return f"{type(element).__name__} {name!r}" if name else type(element).__name__
+
+
+class MjVisual(_visualize.MjVisual):
+    """A spec's visual options: MjVisual, also with `global`, as the official
+    spec.visual has (`getattr(spec.visual, 'global')`; `global_` is the same)."""
+
+
+setattr(MjVisual, "global", _visualize.MjVisual.global_)
 
 
 class MjSpec(_generated.MjSpec):
@@ -34,22 +63,41 @@ class MjSpec(_generated.MjSpec):
 
     `MjSpec()` is an empty model; `MjSpec.from_string(xml)` and
     `MjSpec.from_file(path)` parse MJCF.  Element wrappers (`spec.body('torso')`,
-    `spec.geoms`) point into the spec and keep it alive; after `spec.delete(e)`
-    every wrapper of what was freed raises DeletedElementError on use.
+    `spec.geoms`) point into the spec and keep it alive.  When MuJoCo frees an
+    element (delete, fuse_static, discard_visual, dedup_assets, a compile that
+    fuses or discards), its wrapper ends: it still reads the values it had, as
+    official, but writes and MuJoCo calls raise.  An operation that would free an
+    element whose NumPy views (`geom.size`) are still held is refused instead.
     """
 
+    visual = Nested("visual", lambda: MjVisual, "visual options")
+
     def __init__(self):
-        self._adopt_spec(lib.mjcffi_guard_mj_makeSpec(), {})
-        _m.check_error()
+        load_bundled()
+        self._adopt_spec(_call(lib.mjcffi_guard_mj_makeSpec), {})
 
     # --------------------------------------------------------- construction
 
     def _adopt_spec(self, pointer, assets):
         if pointer == ffi.NULL:
             raise MemoryError("MuJoCo could not allocate the mjSpec")
-        self._init_root(ffi.gc(pointer, lib.mj_deleteSpec))
-        self.__dict__.update(_registry=lifetime.Registry(), _assets=dict(assets),
-                             _attached=[])
+        self._adopt_root(ffi.gc(pointer, lib.mj_deleteSpec), assets)
+
+    def _adopt_root(self, root, assets):
+        self._init_root(root)
+        self.__dict__.update(_assets=dict(assets), _attached=[], _parent=None,
+                             _override_assets=True, _compiled=False, _deep_copy=False,
+                             _by_reference=False)
+
+    @classmethod
+    def _of(cls, spec):
+        """This class over the mjSpec of `spec`, a generated MjSpec wrapper that owns it
+        (what mjcffi.mj_parseXMLString and the other raw functions return)."""
+        if spec is None or isinstance(spec, cls):
+            return spec
+        self = cls.__new__(cls)
+        self._adopt_root(spec._root, {})
+        return self
 
     @classmethod
     def _new(cls, pointer, assets):
@@ -59,43 +107,47 @@ class MjSpec(_generated.MjSpec):
 
     @classmethod
     def from_string(cls, xml, include=None, assets=None, vfs=None):
-        """A spec parsed from MJCF text; `include` and `assets` map file names to
-        bytes (the files it includes and the assets it reads); `vfs` instead of both."""
-        merged = {**(include or {}), **(assets or {})}
-        pointer = cls._parse(lib.mjcffi_guard_mj_parseXMLString, _m.text(xml, "xml"),
-                             merged, vfs, "mj_parseXMLString")
-        return cls._new(pointer, merged)
+        """A spec parsed from MJCF text.  `include` maps the names of the files it
+        includes to their bytes; `assets` (file name -> bytes) become the spec's
+        `assets`, read when it compiles; `vfs`, an MjVfs, instead of both."""
+        _both_given(include, assets, vfs)
+        text = _m.text(xml, "xml")
+        pointer = cls._parse(lambda c_vfs, error, size: lib.mjcffi_guard_mj_parseXMLString(
+            text, c_vfs, error, size), include, assets, vfs, "mj_parseXMLString")
+        return cls._new(pointer, check_assets(assets) if assets else {})
 
     @classmethod
     def from_file(cls, filename, include=None, assets=None, vfs=None):
-        """A spec parsed from an MJCF file (a path); `include`, `assets`, `vfs` as
-        in from_string."""
-        merged = {**(include or {}), **(assets or {})}
-        path = _m.text(str(filename), "filename")
-        pointer = cls._parse(lib.mjcffi_guard_mj_parseXML, path, merged, vfs, "mj_parseXML")
-        return cls._new(pointer, merged)
+        """A spec read from a file: MJCF, or any format a decoder is registered for
+        (chosen by the file's extension); `include`, `assets`, `vfs` as in
+        from_string."""
+        _both_given(include, assets, vfs)
+        path = _m.text(filename, "filename")
+        pointer = cls._parse(lambda c_vfs, error, size: lib.mjcffi_guard_mj_parse(
+            path, ffi.NULL, c_vfs, error, size), include, assets, vfs, "mj_parse")
+        return cls._new(pointer, check_assets(assets) if assets else {})
 
     @staticmethod
-    def _parse(parser, source, assets, vfs, what):
-        if vfs is not None and assets:
-            raise ValueError("Cannot specify both 'assets' and 'vfs'.")
-        own_vfs = vfs_of(assets)
-        try:
-            chosen = vfs if vfs is not None else own_vfs
+    def _parse(parser, include, assets, vfs, what):
+        load_bundled()              # MJCF may name a plugin, a file may need a decoder
+        files = {**check_assets(include or {}, "include"), **check_assets(assets or {})}
+        with vfs_pointer(files, vfs) as c_vfs:
             error, error_sz = _m.error_buffer()
-            c_vfs = _m.opt_struct(chosen, "mjVFS", "vfs")
-            return _parsed(parser(source, c_vfs, error, error_sz), error, what)
-        finally:
-            if own_vfs is not None:
-                own_vfs.close()
+            pointer = _call(parser, c_vfs, error, error_sz)
+        if pointer == ffi.NULL:
+            raise ValueError(_m.error_text(error, what))
+        return pointer
 
     @classmethod
     def from_zip(cls, file):
-        """A spec from a zip archive (path or file object): the model is the .xml file
-        nearest its top (there must be one only at that depth); the other files,
-        named relative to the model's folder, are its assets."""
+        """A spec from a zip archive (a path or a binary file object), as to_zip writes
+        it: the model is the .xml file nearest the archive's top (there must be one
+        only at that depth); the other files, named relative to the model's folder,
+        are its assets."""
         import posixpath
         import zipfile
+        if not zipfile.is_zipfile(file):
+            raise ValueError(f"File {file} is not a zip file.")
         with zipfile.ZipFile(file) as archive:
             files = {name: archive.read(name) for name in archive.namelist()
                      if not name.endswith("/")}
@@ -105,57 +157,168 @@ class MjSpec(_generated.MjSpec):
         if len(models) != 1:
             raise ValueError(f"the zip file must hold one .xml file nearest its top, "
                              f"found {len(models)}")
-        root = posixpath.dirname(models[0])
         xml = files.pop(models[0]).decode("utf-8")
-        assets = {posixpath.relpath(name, root) if root else name: content
-                  for name, content in files.items()}
-        return cls.from_string(xml, assets=assets)
+        return cls.from_string(xml, assets=relative_names(files, posixpath.dirname(models[0])))
 
-    # ------------------------------------------------------------- assets
+    def to_zip(self, file):
+        """Write the spec (to_xml(), as '<modelname>.xml') and its assets to a zip
+        archive: `file` is a path (its folder is made) or a binary file object."""
+        import os
+        import zipfile
+        files = dict(self._assets)
+        files[self.modelname + ".xml"] = self.to_xml()
+        if isinstance(file, (str, os.PathLike)):
+            folder = os.path.dirname(os.fspath(file))
+            if folder:
+                os.makedirs(folder, exist_ok=True)
+        elif not hasattr(file, "write"):
+            raise TypeError(f"file must be a path or a binary file object, "
+                            f"not {type(file).__name__}")
+        with zipfile.ZipFile(file, "w") as archive:
+            for name, content in files.items():
+                archive.writestr(zipfile.ZipInfo(name), content)
+
+    # ------------------------------------------------------- spec settings
 
     @property
     def assets(self):
-        """File name -> bytes: the assets the spec reads when it compiles."""
+        """File name -> bytes: the files the spec reads when it compiles.  Setting it
+        adds the given files to them (as official)."""
         return self._assets
 
     @assets.setter
     def assets(self, value):
-        if not isinstance(value, dict):
-            raise TypeError(f"assets must be a dict, not {type(value).__name__}")
-        self.__dict__["_assets"] = dict(value)
+        self._assets.update(check_assets(value))
+
+    @property
+    def override_assets(self):
+        """Whether `attach` may replace an asset of this spec by a child's of the same
+        name (True); if False, such an attach is refused."""
+        return self._override_assets
+
+    @override_assets.setter
+    def override_assets(self, value):
+        self.__dict__["_override_assets"] = bool(value)
+
+    @property
+    def copy_during_attach(self):
+        """Write-only: True makes `attach` attach a copy of the child (mjs_setDeepCopy)."""
+        raise ValueError("copy_during_attach can only be set.")
+
+    @copy_during_attach.setter
+    def copy_during_attach(self, value):
+        _call(lib.mjcffi_guard_mjs_setDeepCopy, self._ptr, 1 if value else 0)
+        self.__dict__["_deep_copy"] = bool(value)
+
+    @property
+    def parent(self):
+        """The spec this one was attached to with `attach`, or None."""
+        return self._parent
+
+    @property
+    def meshdir(self):
+        """compiler.meshdir: the folder of mesh and height field files."""
+        return self.compiler.meshdir
+
+    @meshdir.setter
+    def meshdir(self, value):
+        self.compiler.meshdir = value
+
+    @property
+    def texturedir(self):
+        """compiler.texturedir: the folder of texture files."""
+        return self.compiler.texturedir
+
+    @texturedir.setter
+    def texturedir(self, value):
+        self.compiler.texturedir = value
+
+    @property
+    def timer(self):
+        """The last compilation's times by mjtCTimer (seconds), a view into the spec."""
+        return view(_call(lib.mjcffi_guard_mjs_getTimer, self._ptr), np.dtype(np.float64),
+                    (int(mjtCTimer.mjNCTIMER),), self._root)
+
+    def activate_plugin(self, name):
+        """Make the registered plugin `name` (such as 'mujoco.pid') usable in the
+        spec, as MJCF's <extension><plugin plugin="..."/>."""
+        if _call(lib.mjcffi_guard_mjs_activatePlugin, self._ptr, _m.text(name, "name")):
+            raise ValueError(f"no plugin named {name!r} is registered")
 
     # ---------------------------------------------------------- compiling
 
+    def _frees_when_compiled(self):
+        return bool(self._ptr.compiler.fusestatic or self._ptr.compiler.discardvisual)
+
+    def _compile(self, c_spec, c_vfs):
+        pointer = _call(lib.mjcffi_guard_mj_compile, c_spec, c_vfs)
+        if pointer == ffi.NULL:
+            raise _spec_error(c_spec, "mj_compile")
+        return _model(pointer)
+
+    def _warn(self):
+        """MuJoCo's warnings of the last compilation, as UserWarnings."""
+        for i in range(_call(lib.mjcffi_guard_mjs_numWarnings, self._ptr)):
+            text = _m.string(_call(lib.mjcffi_guard_mjs_getWarning, self._ptr, i))
+            if text:
+                warnings.warn(text, UserWarning, stacklevel=3)
+
     def compile(self, vfs=None):
-        """The compiled MjModel; MuJoCo's compile error becomes ValueError."""
-        if vfs is not None:
-            return mj_compile(self, vfs)
-        own_vfs = vfs_of(self._assets)
-        try:
-            return mj_compile(self, own_vfs)
-        finally:
-            if own_vfs is not None:
-                own_vfs.close()
+        """The compiled MjModel.  Assets come from `assets`, or from `vfs` (an MjVfs;
+        not both).  MuJoCo's compile error becomes ValueError, its warnings
+        UserWarnings.  With compiler.fusestatic or discardvisual set, compiling
+        frees the fused bodies or the visual elements, as fuse_static() and
+        discard_visual() do."""
+        self.__dict__["_compiled"] = False
+        with vfs_pointer(self._assets, vfs) as c_vfs:
+            if self._frees_when_compiled():
+                model = lifetime.freeing(self, "compile",
+                                         lambda c, _: self._compile(c, c_vfs))
+            else:
+                model = self._compile(self._ptr, c_vfs)
+        self.__dict__["_compiled"] = True
+        self._warn()
+        return model
 
     def recompile(self, m, d, vfs=None):
-        """(model, data): the spec compiled again, with the state of `d` carried over
-        by name, as new objects; `m` and `d` are left as they were."""
-        c_m, c_d = _m.struct(m, "mjModel", "m"), _m.struct(d, "mjData", "d")
-        new_m = lib.mjcffi_guard_mj_copyModel(ffi.NULL, c_m)
-        _m.check_error()
-        new_d = lib.mjcffi_guard_mj_copyData(ffi.NULL, new_m, c_d)
-        _m.check_error()
-        own_vfs = vfs_of(self._assets) if vfs is None else None
-        try:
-            c_vfs = _m.opt_struct(vfs if vfs is not None else own_vfs, "mjVFS", "vfs")
-            status = lib.mjcffi_guard_mj_recompile(self._ptr, c_vfs, new_m, new_d)
-            _m.check_error()
-        finally:
-            if own_vfs is not None:
-                own_vfs.close()
+        """(model, data): the spec compiled again, with the state of `d` (data of
+        model `m`) carried over by name, as new objects; `m` and `d` are left as
+        they were.  Assets as in compile().  A spec that was not compiled yet is
+        compiled first (MuJoCo's mj_recompile reads what compiling left)."""
+        c_m, c_d = _m.model_data(m, d)
+        if not self._compiled:
+            self.compile(vfs)
+        with vfs_pointer(self._assets, vfs) as c_vfs:
+            new_m = _call(lib.mjcffi_guard_mj_copyModel, ffi.NULL, c_m)
+            if new_m == ffi.NULL:
+                raise MemoryError("MuJoCo could not copy the model")
+            new_d = _call(lib.mjcffi_guard_mj_copyData, ffi.NULL, new_m, c_d)
+            if new_d == ffi.NULL:
+                lib.mj_deleteModel(new_m)
+                raise MemoryError("MuJoCo could not copy the data")
+
+            ran = []
+
+            def recompile(c_spec, _):
+                ran.append(True)
+                return _call(lib.mjcffi_guard_mj_recompile, c_spec, c_vfs, new_m, new_d)
+
+            try:
+                if self._frees_when_compiled():
+                    status = lifetime.freeing(self, "recompile", recompile,
+                                              rehearsal=lambda c, _: self._compile(c, c_vfs))
+                else:
+                    status = recompile(self._ptr, None)
+            except BaseException:
+                if not ran:             # refused before MuJoCo took the copies
+                    lib.mj_deleteData(new_d)
+                    lib.mj_deleteModel(new_m)
+                raise
         if status != 0:
             # MuJoCo freed the copies: nothing of Python's pointed at them
+            self.__dict__["_compiled"] = False
             raise _spec_error(self._ptr, "mj_recompile")
+        self._warn()
         return self._wrap_compiled(new_m, new_d)
 
     @staticmethod
@@ -168,28 +331,98 @@ class MjSpec(_generated.MjSpec):
         _track(data)
         return model, data
 
+    # ------------------------------------------------ edits that free elements
+
+    def _counted(self, action, function, *extra):
+        """Run mjs_fuseStatic, mjs_discardVisual or mjs_dedupAssets (`function`) as a
+        freeing operation; its count, or MuJoCo's error as ValueError."""
+        guard = getattr(lib, "mjcffi_guard_" + function)
+
+        def run(c_spec, _):
+            return _call(guard, c_spec, *extra)
+
+        count = lifetime.freeing(self, action, run)
+        if count < 0:
+            raise _spec_error(self._ptr, function)
+        return count
+
+    def fuse_static(self, vfs=None):
+        """Fuse each static body (no joints, `fuse` not false) with its parent: it
+        becomes a frame in the parent, holding what the body held; the wrappers
+        of the fused bodies end (see MjSpec).  Assets as in compile().  Returns
+        the number fused."""
+        with vfs_pointer(self._assets, vfs) as c_vfs:
+            return self._counted("fuse_static", "mjs_fuseStatic", c_vfs)
+
+    def discard_visual(self, vfs=None):
+        """Discard the visual elements: every material and texture, the geoms that
+        neither collide nor are referred to, and the meshes then unused; their
+        wrappers end (see MjSpec).  Assets as in compile(), read only if a body's
+        inertia comes from a discarded geom.  Returns the number discarded."""
+        with vfs_pointer(self._assets, vfs) as c_vfs:
+            return self._counted("discard_visual", "mjs_discardVisual", c_vfs)
+
+    def dedup_assets(self):
+        """Merge the textures and meshes that would compile to the same asset: the first
+        of each group keeps its name, references to the others are rewritten to it
+        and the others deleted (their wrappers end, see MjSpec).  Returns the number
+        merged."""
+        return self._counted("dedup_assets", "mjs_dedupAssets")
+
+    def adopt_inertial(self, body, vfs=None):
+        """Make the inertial that compilation infers for `body` (a body of this spec)
+        its explicit inertial.  Assets as in compile()."""
+        c_body = self._typed(body, "body", kinds.mjtObj.mjOBJ_BODY)
+        with vfs_pointer(self._assets, vfs) as c_vfs:
+            if _call(lib.mjcffi_guard_mjs_adoptInertial, c_body, c_vfs) != 0:
+                raise _spec_error(self._ptr, "mjs_adoptInertial")
+
+    def copy_back(self, model):
+        """Write to the spec the values that were changed in `model`, the model last
+        compiled from it, as what compiles to them.  ValueError, with nothing
+        written, if a change cannot be expressed in the spec."""
+        c_model = _m.struct(model, "mjModel", "model")
+        if _call(lib.mjcffi_guard_mj_copyBack, self._ptr, c_model) != 1:
+            raise _spec_error(self._ptr, "mj_copyBack")
+
     # -------------------------------------------------------------- saving
 
     def to_xml(self):
-        """The spec as MJCF text; it compiles first, as the official does."""
-        compiled = self
-        if self.compiler.fusestatic or self.compiler.discardvisual:
-            compiled = self.copy()      # compiling would free wrapped elements
-        compiled.compile()
-        return mj_saveXMLString(compiled)
+        """The spec as MJCF text.  It compiles the spec first, as the official does
+        (see compile(): fusestatic and discardvisual change the spec)."""
+        self.compile()
+        return mj_saveXMLString(self)
 
     def to_file(self, filename):
         """Write to_xml() to `filename`."""
         with open(filename, "w", encoding="utf-8") as file:
             file.write(self.to_xml())
 
+    def encode(self, filename, model=None, content_type=None):
+        """Write the spec, or `model` compiled from it, to `filename` with the encoder
+        registered for its extension or `content_type` (.xml, .mjb, .txt, .mjz).
+        With a model, its changed values are copied back first.  Returns the number
+        of bytes written; MuJoCo's failure (no encoder, ...) is a FatalError."""
+        path = _m.text(filename, "filename")
+        c_model = _m.opt_struct(model, "mjModel", "model")
+        c_type = ffi.NULL if content_type is None else _m.text(content_type, "content_type")
+        error, error_sz = _m.error_buffer()
+        with vfs_pointer(self._assets, None) as c_vfs:
+            written = _call(lib.mjcffi_guard_mj_encode, self._ptr, c_model, path, c_type,
+                            c_vfs, error, error_sz)
+        if written < 0:
+            raise FatalError(_m.error_text(error, "mj_encode"))
+        return written
+
     # ------------------------------------------------------------- copying
 
     def copy(self):
-        """An independent deep copy of the spec (mj_copySpec), assets included."""
-        pointer = lib.mjcffi_guard_mj_copySpec(self._ptr)
-        _m.check_error()
-        return type(self)._new(pointer, self._assets)
+        """An independent deep copy of the spec (mj_copySpec), with its assets,
+        override_assets and parent."""
+        other = type(self)._new(_call(lib.mjcffi_guard_mj_copySpec, self._ptr), self._assets)
+        other.__dict__.update(_override_assets=self._override_assets, _parent=self._parent,
+                              _deep_copy=self._deep_copy, _by_reference=self._by_reference)
+        return other
 
     def __copy__(self):
         return self.copy()
@@ -201,28 +434,22 @@ class MjSpec(_generated.MjSpec):
 
     # ------------------------------------------------------------ elements
 
-    def _element(self, element, type_):
-        """The one wrapper of generic element pointer `element` (None for NULL)."""
-        if element == ffi.NULL:
-            return None
-        return lifetime.wrap_element(
-            self, element, type_,
-            lambda: kinds.wrapper_class(type_)._wrap(kinds.cast(element, type_), self._root))
+    def _element(self, element):
+        """The one wrapper of element pointer `element` (None for NULL)."""
+        return lifetime.wrap(self, element)
 
     def _elements(self, type_):
         found = []
-        element = lib.mjcffi_guard_mjs_firstElement(self._ptr, type_)
-        _m.check_error()
+        element = _call(lib.mjcffi_guard_mjs_firstElement, self._ptr, type_)
         while element != ffi.NULL:
-            found.append(self._element(element, type_))
-            element = lib.mjcffi_guard_mjs_nextElement(self._ptr, element)
-            _m.check_error()
+            found.append(self._element(element))
+            element = _call(lib.mjcffi_guard_mjs_nextElement, self._ptr, element)
         return found
 
     def _find(self, type_, name):
-        element = lib.mjcffi_guard_mjs_findElement(self._ptr, type_, _m.text(name, "name"))
+        found = lib.mjcffi_guard_mjs_findElement(self._ptr, type_, _m.text(name, "name"))
         _m.check_error()
-        return self._element(element, type_)
+        return _elements.wrap(found, self)
 
     def find_all(self, type):
         """Every element of `type` (an mjtObj, or a name such as 'site'), in order."""
@@ -231,89 +458,145 @@ class MjSpec(_generated.MjSpec):
     @property
     def worldbody(self):
         """The world body, root of the kinematic tree."""
-        body = lib.mjcffi_guard_mjs_findBody(self._ptr, b"world")
-        _m.check_error()
-        return self._element(body.element, kinds.mjtObj.mjOBJ_BODY)
+        return self._element(_call(lib.mjcffi_guard_mjs_findBody, self._ptr, b"world"))
 
-    def _live_addresses(self):
-        live = set()
-        for type_ in kinds.BY_TYPE:
-            element = lib.mjcffi_guard_mjs_firstElement(self._ptr, type_)
-            while element != ffi.NULL:
-                live.add(lifetime.address(element))
-                element = lib.mjcffi_guard_mjs_nextElement(self._ptr, element)
-        _m.check_error()
-        return live
+    @property
+    def default(self):
+        """The main default class ('main'), the root of all others."""
+        return self._element(_call(lib.mjcffi_guard_mjs_getSpecDefault, self._ptr))
+
+    def find_default(self, classname):
+        """The default class named `classname`, or None."""
+        return self._element(_call(lib.mjcffi_guard_mjs_findDefault, self._ptr,
+                                   _m.text(classname, "classname")))
+
+    def add_default(self, classname, parent=None):
+        """A new default class `classname` under `parent` (a default of this spec;
+        None: the main one).  ValueError if the name is taken."""
+        c_name = _m.text(classname, "classname")
+        c_parent = ffi.NULL if parent is None else self._typed(
+            parent, "parent", kinds.mjtObj.mjOBJ_DEFAULT)
+        pointer = _call(lib.mjcffi_guard_mjs_addDefault, self._ptr, c_name, c_parent)
+        if pointer == ffi.NULL:
+            raise ValueError(f"default class {classname!r} exists already")
+        return self._element(pointer)
 
     def delete(self, element):
-        """Remove `element` (a body: with its subtree) from the spec.  Every wrapper of
-        what MuJoCo freed is marked deleted: using it raises DeletedElementError."""
-        c_element = self._element_pointer(element, "element")
-        status = lib.mjcffi_guard_mjs_delete(self._ptr, c_element)
-        _m.check_error()
-        if status != 0:
-            raise _spec_error(self._ptr, "mjs_delete")
-        lifetime.end_missing(self, self._live_addresses())
-        if not lifetime.deleted(element):
-            lifetime.invalidate(element)        # a wrapper made outside the registries
+        """Remove `element` from the spec: with a body, frame or default, all it holds;
+        with them, the elements that refer to what was removed.  The wrappers of
+        what MuJoCo freed end (see MjSpec).  Refused (ValueError) while NumPy
+        views of an element it would free are held."""
+        attached = "Cannot delete element from an attached mjSpec."
+        c_element = self._element_pointer(element, "element", attached_message=attached)
+        if c_element == _call(lib.mjcffi_guard_mjs_findBody, self._ptr, b"world").element:
+            raise ValueError("the world body cannot be deleted")
 
-    def _element_pointer(self, element, name):
-        """The mjsElement * of an element wrapper of this spec."""
-        label = element.__dict__.get("_deleted") if hasattr(element, "__dict__") else None
-        if label is not None or lifetime.is_deleted(element):
-            kind = re.search(r"Mjs(\w+)", str(label or type(element).__name__))
-            raise ValueError(f"{kind.group(1).lower() if kind else 'element'} "
+        def delete(c_spec, counterpart):
+            if _call(lib.mjcffi_guard_mjs_delete, c_spec, counterpart(c_element)) != 0:
+                raise _spec_error(c_spec, "mjs_delete")
+
+        lifetime.freeing(self, f"delete {_label(element)}", delete)
+
+    def _element_pointer(self, element, name, owner_message=None, attached_message=None):
+        """The mjsElement * of an element wrapper of this spec.  An element moved into
+        the spec this one is attached to gets `attached_message`; one of another
+        spec `owner_message`."""
+        if lifetime.is_deleted(element):
+            kind = type(element).__name__
+            raise ValueError(f"{kind[3:].lower() if kind.startswith('Mjs') else 'element'} "
                              f"is not in this model")
         try:
             c_element = element._ptr.element
         except AttributeError:
             raise TypeError(f"{name} must be a spec element, not "
                             f"{type(element).__name__}") from None
-        owner = lib.mjcffi_guard_mjs_getSpec(c_element)
-        _m.check_error()
+        if isinstance(element, MjSpec) or not isinstance(c_element, ffi.CData) or \
+                ffi.typeof(c_element) is not ffi.typeof("mjsElement *"):
+            raise TypeError(f"{name} must be a spec element, not {type(element).__name__}")
+        if int(c_element.elemtype) not in kinds.BY_TYPE and \
+                int(c_element.elemtype) != int(kinds.mjtObj.mjOBJ_DEFAULT):
+            raise TypeError(f"{name} must be a spec element such as an MjsBody, not "
+                            f"{type(element).__name__}")
+        if int(c_element.elemtype) == int(kinds.mjtObj.mjOBJ_DEFAULT):
+            # mjs_getSpec reads no spec from a default: it is found by its name
+            found = _call(lib.mjcffi_guard_mjs_findDefault, self._ptr,
+                          lib.mjs_getString(lib.mjs_getName(c_element)))
+            if found == ffi.NULL or found.element != c_element:
+                raise ValueError(owner_message or f"{name} belongs to another spec")
+            return c_element
+        owner = _call(lib.mjcffi_guard_mjs_getSpec, c_element)
         if owner != self._ptr:
-            raise ValueError(f"{name} belongs to another spec")
+            origin = _call(lib.mjcffi_guard_mjs_getOriginSpec, c_element)
+            if attached_message and origin == self._ptr and self._parent is not None:
+                raise ValueError(attached_message)
+            raise ValueError(owner_message or f"{name} belongs to another spec")
         return c_element
+
+    def _typed(self, element, name, type_):
+        """The typed struct pointer (mjsBody *, ...) of `element`, which must be an
+        element of this spec of mjtObj `type_`."""
+        cls = _generated.MjsDefault if int(type_) == int(kinds.mjtObj.mjOBJ_DEFAULT) \
+            else kinds.wrapper_class(type_)
+        if not isinstance(element, cls):
+            raise TypeError(f"{name} must be an {cls.__name__}, not {type(element).__name__}")
+        self._element_pointer(element, name)
+        return element._ptr
 
     # ---------------------------------------------------------------- attach
 
     def attach(self, child, prefix=None, suffix=None, site=None, frame=None):
-        """Attach spec `child` at `frame` or `site` (elements of this spec, or their
-        names); its names get `prefix` and `suffix`.  Returns the attached element
-        (the frame holding the child's world body).  MuJoCo attaches a spec once unless
-        deep copy is on: attach `child.copy()` to place it again."""
-        if not isinstance(child, _generated.MjSpec):
+        """Attach spec `child` at `frame` or `site` (an element of this spec or its
+        name); its names get `prefix` (default '/') and `suffix`.  Returns the frame
+        that the child's world body became.  Its assets join this spec's, renamed
+        likewise (ValueError, and nothing attached, if one is taken and
+        override_assets is False).  MuJoCo attaches a spec once unless
+        copy_during_attach is set: attach `child.copy()` to place it again."""
+        if not isinstance(child, MjSpec):
             raise TypeError(f"child must be an MjSpec, not {type(child).__name__}")
-        if site is not None and frame is not None:
-            raise ValueError("give a site or a frame, not both")
-        parent = self._attach_point(site, frame)
-        result = lib.mjcffi_guard_mjs_attach(
-            parent, child._ptr.element, _m.text(prefix or "", "prefix"),
-            _m.text(suffix or "", "suffix"))
-        _m.check_error()
+        prefix = _attach.DEFAULT_PREFIX if prefix is None else prefix
+        suffix = "" if suffix is None else suffix
+        c_prefix, c_suffix = _m.text(prefix, "prefix"), _m.text(suffix, "suffix")
+        point = _attach.attach_point(self, site, frame)
+        assets = _attach.renamed_assets(self, child, prefix, suffix)
+        result = _call(lib.mjcffi_guard_mjs_attach, point, child._ptr.element,
+                       c_prefix, c_suffix)
         if result == ffi.NULL:
             raise _spec_error(self._ptr, "mjs_attach")
+        self._assets.update(assets)
+        _attach.warn_mixed_assets(self, child)
+        if child.assets:
+            _attach.rename_files(child, prefix, suffix)
         self._attached.append(child)        # MuJoCo may read the child until compiled
-        self._assets.update(getattr(child, "_assets", {}))
-        return self._element(result, result.elemtype) \
-            if int(result.elemtype) in kinds.BY_TYPE else None
+        child.__dict__.update(_parent=self, _by_reference=not self._deep_copy)
+        return self._element(result)
 
-    def _attach_point(self, site, frame):
-        if site is not None:
-            if isinstance(site, str):
-                site = self._require("site", site)
-            return self._element_pointer(site, "site")
-        if frame is not None:
-            if isinstance(frame, str):
-                frame = self._require("frame", frame)
-            return self._element_pointer(frame, "frame")
-        raise ValueError("One of frame or site must be specified.")
+    # ----------------------------------------------------------- orientation
 
-    def _require(self, kind, name):
-        found = self._find(kinds.BY_LOOKUP[kind][2], name)
-        if found is None:
-            raise ValueError(f"no {kind} named {name!r} in the spec")
-        return found
+    @staticmethod
+    def resolve_orientation(degree, sequence=None, orientation=None):
+        """The quaternion [w, x, y, z] of `orientation` (an MjsOrientation, such as
+        body.alt), its angles in degrees if `degree`, its Euler sequence `sequence`
+        (such as compiler.eulerseq; None: 'xyz')."""
+        if not isinstance(orientation, _generated.MjsOrientation):
+            raise TypeError(f"orientation must be an MjsOrientation, "
+                            f"not {type(orientation).__name__}")
+        if sequence is None:
+            sequence = "xyz"
+        elif not isinstance(sequence, (str, bytes)):
+            try:
+                sequence = "".join(sequence)
+            except TypeError:
+                raise TypeError(f"sequence must be str such as 'xyz' or a sequence of "
+                                f"its letters, not {type(sequence).__name__}") from None
+        c_sequence = _m.text(sequence, "sequence")
+        if len(c_sequence) != 3:
+            raise ValueError(f"sequence must be 3 axes such as 'xyz', got {sequence!r}")
+        quat = ffi.new("double[4]")
+        error = _call(lib.mjcffi_guard_mjs_resolveOrientation, quat, 1 if degree else 0,
+                      c_sequence, orientation._ptr)
+        if error != ffi.NULL:
+            raise ValueError(_m.string(error))
+        return list(quat)
 
 
 def _lookup(type_, kind):
