@@ -18,6 +18,9 @@ _LAYOUT_SIZE = lib.mjcffi_data_layout_size()
 _new_unzeroed = ffi.new_allocator(should_clear_after_alloc=False)
 
 
+_bind = None            # mjcffi.spec.bind.bind, once a bind method ran
+
+
 @_register_class        # callbacks wrap foreign pointers with it
 class MjData(NamedAccess, MjDataNames, mjdata.MjData):
     """The simulation state of a model (mjData): `MjData(model)`.
@@ -41,6 +44,21 @@ class MjData(NamedAccess, MjDataNames, mjdata.MjData):
     def model(self):
         """The MjModel this data was made for."""
         return self._model
+
+    def bind(self, specs):
+        """The data fields of a spec element's compiled counterpart: `d.bind(geom).xpos`.
+
+        `specs` is an element (MjsGeom, MjsJoint, ...) of the MjSpec this
+        data's model was compiled from, unchanged since: its named-access
+        accessor (the same as `d.geom(id)`), or, for a list of elements, an
+        object whose fields join their values in one array (a view when their ids
+        are ascending and consecutive, else a copy; assigning to a field writes
+        every element's value either way).  See mjcffi/spec/bind.py.
+        """
+        global _bind
+        if _bind is None:         # the spec package is imported on first use only
+            from .spec.bind import bind as _bind
+        return _bind(self, specs)
 
     @property
     def _address(self):

@@ -16,6 +16,9 @@ from .structs import mjmodel
 _NOT_MJB = "MuJoCo could not load these bytes as an MJB model of MuJoCo 4.0"
 
 
+_bind = None            # mjcffi.spec.bind.bind, once a bind method ran
+
+
 @_register_class        # callbacks wrap foreign pointers with it
 class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
     """A compiled model (mjModel).
@@ -78,6 +81,21 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
         if not isinstance(mjb, (bytes, bytearray, memoryview)):
             raise TypeError(f"mjb must be bytes, not {type(mjb).__name__}")
         return cls._from_root(_loading.load_binary_bytes(bytes(mjb), _NOT_MJB))
+
+    def bind(self, specs):
+        """The model fields of a spec element's compiled counterpart: `m.bind(geom).size`.
+
+        `specs` is an element (MjsGeom, MjsJoint, ...) of the MjSpec this
+        model was compiled from, unchanged since: its named-access
+        accessor (the same as `m.geom(id)`), or, for a list of elements, an
+        object whose fields join their values in one array (a view when their ids
+        are ascending and consecutive, else a copy; assigning to a field writes
+        every element's value either way).  See mjcffi/spec/bind.py.
+        """
+        global _bind
+        if _bind is None:         # the spec package is imported on first use only
+            from .spec.bind import bind as _bind
+        return _bind(self, specs)
 
     @property
     def _address(self):
