@@ -631,13 +631,16 @@ UNSUPPORTED = {
     "mju_setLogHandler": "it installs a C callback",
     "mjs_setUserValueWithCleanup": "it takes a C callback",
     "mjs_setPluginAttributes": "it takes a C++ std::map behind a void *",
-    "mjs_bodyToFrame": "it frees the body it converts (mjsBody **)",
-    **{name: f"it {what}, to which Python wrappers and NumPy views may still point: MjSpec "
-             f"(issue 13) will do this safely" for name, what in (
-        ("mjs_delete", "frees the element (a body: its whole subtree)"),
-        ("mjs_fuseStatic", "frees the static bodies it fuses into their parents"),
-        ("mjs_discardVisual", "frees the visual elements it discards"),
-        ("mjs_dedupAssets", "frees the duplicate assets it merges"))},
+    **{name: f"it {what}, to which Python wrappers and NumPy views may still point: use "
+             f"{instead}, which ends those wrappers and refuses while views are held"
+       for name, what, instead in (
+        ("mjs_bodyToFrame", "frees the body it converts (mjsBody **)", "MjsBody.to_frame()"),
+        ("mjs_delete", "frees the element (a body: its whole subtree)", "MjSpec.delete"),
+        ("mjs_fuseStatic", "frees the static bodies it fuses into their parents",
+         "MjSpec.fuse_static"),
+        ("mjs_discardVisual", "frees the visual elements it discards",
+         "MjSpec.discard_visual"),
+        ("mjs_dedupAssets", "frees the duplicate assets it merges", "MjSpec.dedup_assets"))},
     "mjui_add": "it takes an mjITEM_END-terminated array of mjuiDef",
     "mjui_addToSection": "it takes an mjITEM_END-terminated array of mjuiDef",
     "mjc_distance": "it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers",

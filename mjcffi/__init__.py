@@ -54,6 +54,18 @@ _LAZY = {
     "GLContext": ".gl_context",     # reads MUJOCO_GL; absent when it says disable, as official
     "Renderer": ".renderer",        # loads a GL backend on construction, not on import
     "MjSpec": ".spec",              # the hand-written class over the generated mjSpec struct
+    "from_zip": ".spec", "to_zip": ".spec",
+    "MjStruct": ".structs.mjspec",  # typing.Union of the element classes, as official
+    # the live vector attributes of spec elements (body.userdata, texture.cubefiles, ...)
+    **{name: ".structs._elements" for name in (
+        "MjCharVec", "MjDoubleVec", "MjFloatVec", "MjIntVec", "MjStringVec")},
+    # the element classes, with their hand-written methods (spec/elements.py)
+    **{name: ".spec.elements" for name in (
+        "MjsBody", "MjsFrame", "MjsSite", "MjsGeom", "MjsJoint", "MjsCamera", "MjsLight",
+        "MjsMesh", "MjsSensor", "MjsTendon", "MjsTendonPath", "MjsWrap", "MjsActuator",
+        "MjsFlex", "MjsHField", "MjsSkin", "MjsTexture", "MjsMaterial", "MjsPair",
+        "MjsExclude", "MjsEquality", "MjsNumeric", "MjsText", "MjsTuple", "MjsKey",
+        "MjsPlugin")},
 }
 
 

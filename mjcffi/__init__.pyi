@@ -10,10 +10,41 @@ from . import batch as batch, minimize as minimize, rollout as rollout, sim as s
 from .callbacks import *
 # MjLogConfig is log_config's subclass (get, set), not the generated base that structs exports
 from .log_config import MjLogConfig as MjLogConfig
-from .structs import *  # type: ignore[assignment]
+from .structs.mjtype import *  # type: ignore[assignment]
+from .structs.mjmodel import *  # type: ignore[assignment]
+from .structs.mjdata import *  # type: ignore[assignment]
+from .structs.mjvisualize import *  # type: ignore[assignment]
+from .structs.mjplugin import *  # type: ignore[assignment]
+from .structs.mjrender import *  # type: ignore[assignment]
+from .structs.mjui import *  # type: ignore[assignment]
+from .structs.mjbatch import *  # type: ignore[assignment]
+# mjspec's element classes come from spec/elements.py (their hand-written methods)
+from .structs.mjspec import (MjsElement as MjsElement, MjsCompiler as
+                             MjsCompiler, MjsAuthored as MjsAuthored,
+                             MjsOrientation as MjsOrientation,
+                             MjsDefault as MjsDefault, MjStruct as
+                             MjStruct)
 from .data import MjData as MjData
 from .model import MjModel as MjModel
-from .spec import MjSpec as MjSpec
+# the element classes with their hand-written methods (spec/elements.py)
+from .spec.elements import (MjsActuator as MjsActuator, MjsBody as
+                            MjsBody, MjsCamera as MjsCamera,
+                            MjsEquality as MjsEquality, MjsExclude as
+                            MjsExclude, MjsFlex as MjsFlex, MjsFrame as
+                            MjsFrame, MjsGeom as MjsGeom, MjsHField as
+                            MjsHField, MjsJoint as MjsJoint, MjsKey as
+                            MjsKey, MjsLight as MjsLight, MjsMaterial
+                            as MjsMaterial, MjsMesh as MjsMesh,
+                            MjsNumeric as MjsNumeric, MjsPair as
+                            MjsPair, MjsPlugin as MjsPlugin, MjsSensor
+                            as MjsSensor, MjsSite as MjsSite, MjsSkin
+                            as MjsSkin, MjsTendon as MjsTendon,
+                            MjsTendonPath as MjsTendonPath, MjsText as
+                            MjsText, MjsTexture as MjsTexture, MjsTuple
+                            as MjsTuple, MjsWrap as MjsWrap)
+from .structs._elements import (MjCharVec as MjCharVec, MjDoubleVec as MjDoubleVec,
+                                MjFloatVec as MjFloatVec, MjIntVec as MjIntVec,
+                                MjStringVec as MjStringVec)
 from .user_handlers import *
 from .vfs import MjVfs as MjVfs
 from .plugins import HEADERS_DIR as HEADERS_DIR, PLUGINS_DIR as PLUGINS_DIR
@@ -21,6 +52,8 @@ from .warning_errors import (MjWarningError as MjWarningError,
                              get_warnings_as_errors as get_warnings_as_errors,
                              ignore_warnings as ignore_warnings,
                              set_warnings_as_errors as set_warnings_as_errors)
+
+from .spec import MjSpec as MjSpec, from_zip as from_zip, to_zip as to_zip
 
 __version__: str
 

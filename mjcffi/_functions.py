@@ -6061,11 +6061,12 @@ def mjs_delete(spec, element):
 Remove object corresponding to the given element; return 0 on success.
 
 Not available in mjcffi: it frees the element (a body: its whole subtree), to which Python
-wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely.
+wrappers and NumPy views may still point: use MjSpec.delete, which ends those wrappers and
+refuses while views are held.
 The raw C function is mjcffi.lib.mjs_delete.
 """
     raise NotImplementedError(
-        'mjs_delete: it frees the element (a body: its whole subtree), to which Python wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely')
+        'mjs_delete: it frees the element (a body: its whole subtree), to which Python wrappers and NumPy views may still point: use MjSpec.delete, which ends those wrappers and refuses while views are held')
 
 
 def mjs_addActuator(s, def_=None):
@@ -7192,11 +7193,12 @@ def mjs_fuseStatic(s, vfs=None):
 Fuse the static bodies of the spec with their parents; return the number fused, -1 on error.
 
 Not available in mjcffi: it frees the static bodies it fuses into their parents, to which
-Python wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely.
+Python wrappers and NumPy views may still point: use MjSpec.fuse_static, which ends those
+wrappers and refuses while views are held.
 The raw C function is mjcffi.lib.mjs_fuseStatic.
 """
     raise NotImplementedError(
-        'mjs_fuseStatic: it frees the static bodies it fuses into their parents, to which Python wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely')
+        'mjs_fuseStatic: it frees the static bodies it fuses into their parents, to which Python wrappers and NumPy views may still point: use MjSpec.fuse_static, which ends those wrappers and refuses while views are held')
 
 
 def mjs_discardVisual(s, vfs=None):
@@ -7205,11 +7207,12 @@ def mjs_discardVisual(s, vfs=None):
 Discard the visual elements of the spec; return the number discarded, -1 on error.
 
 Not available in mjcffi: it frees the visual elements it discards, to which Python wrappers
-and NumPy views may still point: MjSpec (issue 13) will do this safely.
+and NumPy views may still point: use MjSpec.discard_visual, which ends those wrappers and
+refuses while views are held.
 The raw C function is mjcffi.lib.mjs_discardVisual.
 """
     raise NotImplementedError(
-        'mjs_discardVisual: it frees the visual elements it discards, to which Python wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely')
+        'mjs_discardVisual: it frees the visual elements it discards, to which Python wrappers and NumPy views may still point: use MjSpec.discard_visual, which ends those wrappers and refuses while views are held')
 
 
 def mjs_dedupAssets(s):
@@ -7219,11 +7222,12 @@ Merge the textures and meshes of the spec which would compile to the same asset;
 merged, -1 on error.
 
 Not available in mjcffi: it frees the duplicate assets it merges, to which Python wrappers
-and NumPy views may still point: MjSpec (issue 13) will do this safely.
+and NumPy views may still point: use MjSpec.dedup_assets, which ends those wrappers and
+refuses while views are held.
 The raw C function is mjcffi.lib.mjs_dedupAssets.
 """
     raise NotImplementedError(
-        'mjs_dedupAssets: it frees the duplicate assets it merges, to which Python wrappers and NumPy views may still point: MjSpec (issue 13) will do this safely')
+        'mjs_dedupAssets: it frees the duplicate assets it merges, to which Python wrappers and NumPy views may still point: use MjSpec.dedup_assets, which ends those wrappers and refuses while views are held')
 
 
 def mjs_adoptInertial(body, vfs=None):
@@ -7243,11 +7247,13 @@ def mjs_bodyToFrame(body):
 
 Transform body into a frame.
 
-Not available in mjcffi: it frees the body it converts (mjsBody **).
+Not available in mjcffi: it frees the body it converts (mjsBody **), to which Python
+wrappers and NumPy views may still point: use MjsBody.to_frame(), which ends those wrappers
+and refuses while views are held.
 The raw C function is mjcffi.lib.mjs_bodyToFrame.
 """
     raise NotImplementedError(
-        'mjs_bodyToFrame: it frees the body it converts (mjsBody **)')
+        'mjs_bodyToFrame: it frees the body it converts (mjsBody **), to which Python wrappers and NumPy views may still point: use MjsBody.to_frame(), which ends those wrappers and refuses while views are held')
 
 
 def mjs_setUserValue(element, key, data):

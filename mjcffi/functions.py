@@ -7,6 +7,7 @@ signature line, the header's doc comment, then their own notes.
 `mjcffi` itself resolves a function name through this module on first use.
 """
 
+import functools
 import inspect
 
 from . import _functions, _funcinfo, _overrides
@@ -24,11 +25,23 @@ def _document(function, name):
     return function
 
 
+def _returning_mjspec(function):
+    """`function`, returning mjcffi.MjSpec (with element lists, compile, delete...)
+    rather than the generated struct class it wraps."""
+    @functools.wraps(function)
+    def call(*args, **kwargs):
+        from .spec import MjSpec        # mjcffi.spec imports this layer
+        return MjSpec._of(function(*args, **kwargs))
+    return call
+
+
 for _name in NAMES:
     if hasattr(_overrides, _name):
         globals()[_name] = _document(getattr(_overrides, _name), _name)
     else:
         globals()[_name] = getattr(_functions, _name)
+for _name in ("mj_makeSpec", "mj_copySpec", "mj_parseXML", "mj_parseXMLString", "mj_parse"):
+    globals()[_name] = _returning_mjspec(globals()[_name])
 del _name
 
 __all__ = list(NAMES)

@@ -22,6 +22,11 @@ try:
     mujoco.mj_forward(m, d)
 except mujoco.FatalError:
     pass
+spec = mujoco.MjSpec.from_string("<mujoco/>")
+geom = spec.worldbody.add_geom(size=[1, 1, 1])
+compiled = spec.compile()
+xpos: np.ndarray = mujoco.MjData(compiled).bind(geom).xpos
+bodies: list = spec.bodies
 '''
 
 BAD_CODE = '''
