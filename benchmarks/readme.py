@@ -12,7 +12,7 @@ import textwrap
 
 README = pathlib.Path(__file__).resolve().parent.parent / "README.md"
 
-_BLOCKS = ("headline", "per-call cost")
+_BLOCKS = ("headline", "per-call cost", "spec speed")
 
 
 def _marks(block):
@@ -67,7 +67,14 @@ def figures(results):
         "step0_extra_ns": _float(step0[1]) - _float(step0[2]),
         "pendulum_step": _float(_row(rows, "`mj_step(m, d)`, one-hinge pendulum")[3]),
         "default_step": _float(_row(rows, "`mj_step(m, d)`, default scene")[3]),
+        "spec_build": _float(_row(rows, "`build(module).compile()`")[3]),
+        "spec_attrs": sorted(_float(_row(rows, f"`{s}`")[3]) for s in _SPEC_ATTRIBUTES),
+        "spec_name": _float(_row(rows, "`g.name`")[3]),
     }
+
+
+# the element attribute rows of bench_spec that the README sums up
+_SPEC_ATTRIBUTES = ("g.size", "g.size = size", "b.pos[2] = 0.3", "g.type", "b.userdata")
 
 
 # ----------------------------------------------------------------- writing
@@ -118,7 +125,16 @@ def per_call(f):
         f"the default scene. Use `nstep` to loop in C.")
 
 
-_WRITERS = {"headline": headline, "per-call cost": per_call}
+def spec_speed(f):
+    low, high = f["spec_attrs"][0], f["spec_attrs"][-1]
+    return _bullet(
+        f"**Speed.** Building a 100-body tree with keyword `add_*` calls and compiling it "
+        f"took {f['spec_build']:.2f}× the official time ({f['date']}); element attribute "
+        f"reads and writes {low:.2f}–{high:.2f}×, a name read {f['spec_name']:.2f}× "
+        f"([benchmarks/RESULTS.md](benchmarks/RESULTS.md)).")
+
+
+_WRITERS = {"headline": headline, "per-call cost": per_call, "spec speed": spec_speed}
 
 
 def update(readme, results):
