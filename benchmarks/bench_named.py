@@ -6,7 +6,7 @@ import mujoco
 
 import mjcffi
 
-from .common import interleaved, per_call
+from .common import interleaved, per_call, side_by_side
 
 SCENE = """
 <mujoco>
@@ -57,9 +57,7 @@ def run(rounds=15, calls=50_000):
              "| statement | mjcffi | official | ratio | target |",
              "|---|---:|---:|---:|---:|"]
     for statement in ("d.joint('hinge').qpos", "m.geom('rod').rgba", "m.geom(1).rgba"):
-        medians = interleaved({"mjcffi": per_call(statement, ours, calls),
-                               "official": per_call(statement, theirs, calls)}, rounds)
-        a, b = medians["mjcffi"], medians["official"]
+        a, b = side_by_side(statement, ours, theirs, calls, rounds)
         target = "≤ 0.3" if "(1)" not in statement else ""
         lines.append(f"| `{statement}` | {a * 1e9:.0f} ns | {b * 1e9:.0f} ns | {a / b:.2f} "
                      f"| {target} |")

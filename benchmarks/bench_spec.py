@@ -10,7 +10,7 @@ import mujoco
 
 import mjcffi
 
-from .common import interleaved, per_call
+from .common import side_by_side
 
 BODIES = 100
 
@@ -73,9 +73,7 @@ def run(rounds=11):
              "", "| statement | mjcffi | official | ratio | target |",
              "|---|---:|---:|---:|---:|"]
     for statement, calls, target in STATEMENTS:
-        medians = interleaved({"mjcffi": per_call(statement, ours, calls),
-                               "official": per_call(statement, theirs, calls)}, rounds)
-        a, b = medians["mjcffi"], medians["official"]
+        a, b = side_by_side(statement, ours, theirs, calls, rounds)
         lines.append(f"| `{statement}` | {_time(a)} | {_time(b)} | {a / b:.2f} | {target} |")
     return lines
 

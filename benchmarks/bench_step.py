@@ -10,7 +10,7 @@ import mujoco
 import mjcffi
 from mjcffi import scenes
 
-from .common import interleaved, per_call
+from .common import side_by_side
 
 
 
@@ -20,10 +20,7 @@ def _namespace(module, xml):
 
 
 def _row(label, statement, ours, theirs, rounds, calls, official_statement=None):
-    medians = interleaved({"mjcffi": per_call(statement, ours, calls),
-                           "official": per_call(official_statement or statement, theirs,
-                                                calls)}, rounds)
-    a, b = medians["mjcffi"], medians["official"]
+    a, b = side_by_side(statement, ours, theirs, calls, rounds, official_statement)
     return f"| {label} | {a * 1e9:.0f} ns | {b * 1e9:.0f} ns | {a / b:.2f} |"
 
 

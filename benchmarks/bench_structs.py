@@ -9,7 +9,7 @@ import mujoco
 import mjcffi
 from mjcffi import scenes
 
-from .common import interleaved, per_call
+from .common import side_by_side
 
 
 # (label, statement, calls per round, target ratio text)
@@ -41,9 +41,7 @@ def run(rounds=15):
         "|---|---:|---:|---:|---:|",
     ]
     for label, statement, calls, target in CASES:
-        medians = interleaved({"mjcffi": per_call(statement, ours, calls),
-                               "official": per_call(statement, theirs, calls)}, rounds)
-        a, b = medians["mjcffi"], medians["official"]
+        a, b = side_by_side(statement, ours, theirs, calls, rounds)
         lines.append(f"| {label} | {_fmt(a)} | {_fmt(b)} | {a / b:.2f} | {target} |")
     return lines
 

@@ -28,3 +28,13 @@ def per_call(statement, namespace, calls):
     def run():
         return timer.timeit(calls) / calls
     return run
+
+
+def side_by_side(statement, ours, theirs, calls, rounds, official_statement=None):
+    """Median seconds per run of `statement` in mjcffi's namespace `ours` and of
+    `official_statement` (the same by default) in the official's `theirs`,
+    interleaved: (mjcffi, official)."""
+    medians = interleaved({"mjcffi": per_call(statement, ours, calls),
+                           "official": per_call(official_statement or statement, theirs,
+                                                calls)}, rounds)
+    return medians["mjcffi"], medians["official"]
