@@ -120,8 +120,8 @@ _GL_MADE = {"mjrContext"}
 _SPEC_STRUCT = re.compile(r"^(mjSpec|mjs[A-Z]\w*)$")
 
 # Handle kinds of the spec structs' fields that read and write as Python values
-# (mjcffi/structs/_elements.py): str, live vectors of numbers, bytes, lists of str or
-# arrays.
+# (mjcffi/structs/_element_fields.py, _element_vectors.py): str, live vectors of
+# numbers, bytes, lists of str or arrays.
 _CONVERTED = {"mjString", "mjDoubleVec", "mjFloatVec", "mjIntVec", "mjByteVec", "mjStringVec",
               "mjIntVecVec", "mjFloatVecVec"}
 
@@ -732,7 +732,7 @@ def _frame_methods(ctx):
 
 def _adder_kind(arg):
     """How an add_* method takes one argument of its mjs_add* function (see
-    mjcffi/structs/_elements.py, adder)."""
+    mjcffi/structs/_element_adders.py, adder)."""
     if arg.name == "def" and arg.type.base == "mjsDefault":
         return "default"
     if arg.type.base == "char" and arg.type.pointer == 1:
@@ -854,9 +854,11 @@ def _imports(body):
     lines.append(line)
     for module, names in (("_checks", sorted(set(_MADE_FOR.values()))),
                           ("_handles", ("handle_field", "struct_ref")),
-                          ("_elements", ("adder", "char_array", "element_name", "element_setattr",
-                                         "enum_field", "frame_adder", "member_ref", "register",
-                                         "string_field", "vector_field")),
+                          ("_element_adders", ("adder", "frame_adder")),
+                          ("_element_fields", ("char_array", "element_name", "element_setattr",
+                                               "enum_field", "member_ref", "string_field")),
+                          ("_element_vectors", ("vector_field",)),
+                          ("_elements", ("register",)),
                           ("._mjr", ("context_repr", "make_context", "new_context",
                                      "release_context"))):
         used = [n for n in names if re.search(rf"\b{n}\(", text)]

@@ -57,8 +57,9 @@ _LAZY = {
     "from_zip": ".spec", "to_zip": ".spec",
     "MjStruct": ".structs.mjspec",  # typing.Union of the element classes, as official
     # the live vector attributes of spec elements (body.userdata, texture.cubefiles, ...)
-    **{name: ".structs._elements" for name in (
-        "MjCharVec", "MjDoubleVec", "MjFloatVec", "MjIntVec", "MjStringVec")},
+    "MjCharVec": ".structs._element_fields",
+    **{name: ".structs._element_vectors" for name in (
+        "MjDoubleVec", "MjFloatVec", "MjIntVec", "MjStringVec")},
     # the element classes, with their hand-written methods (spec/elements.py)
     **{name: ".spec.elements" for name in (
         "MjsBody", "MjsFrame", "MjsSite", "MjsGeom", "MjsJoint", "MjsCamera", "MjsLight",

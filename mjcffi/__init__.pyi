@@ -42,9 +42,9 @@ from .spec.elements import (MjsActuator as MjsActuator, MjsBody as
                             MjsTendonPath as MjsTendonPath, MjsText as
                             MjsText, MjsTexture as MjsTexture, MjsTuple
                             as MjsTuple, MjsWrap as MjsWrap)
-from .structs._elements import (MjCharVec as MjCharVec, MjDoubleVec as MjDoubleVec,
-                                MjFloatVec as MjFloatVec, MjIntVec as MjIntVec,
-                                MjStringVec as MjStringVec)
+from .structs._element_fields import MjCharVec as MjCharVec
+from .structs._element_vectors import (MjDoubleVec as MjDoubleVec, MjFloatVec as MjFloatVec,
+                                       MjIntVec as MjIntVec, MjStringVec as MjStringVec)
 from .user_handlers import *
 from .vfs import MjVfs as MjVfs
 from .plugins import HEADERS_DIR as HEADERS_DIR, PLUGINS_DIR as PLUGINS_DIR

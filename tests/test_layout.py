@@ -73,11 +73,13 @@ SUPPORT = {"_library", "_errors", "_views", "_marshal", "_arena", "_loading", "p
            "_aliases", "scenes", "_machine", "_build",
            # what the mjr_* functions check of their OpenGL context (issue 12)
            "_mjr", "structs._checks", "structs._handles",
-           "structs._elements"}
+           "structs._elements", "structs._element_fields", "structs._element_vectors",
+           "structs._element_adders"}
 GENERATED = {"_functions", "_simgetters", "structs"}
 # Hand-written modules beside the generated struct classes, used by them and by the
 # support layer (the mjr_* checks): units of their own, in the support layer.
-OWN_UNITS = {"structs._checks", "structs._handles", "structs._elements"}
+OWN_UNITS = {"structs._checks", "structs._handles", "structs._elements",
+             "structs._element_fields", "structs._element_vectors", "structs._element_adders"}
 TOP = {"model", "data", "vfs", "log_config", "functions", "_overrides", "warning_errors",
        "user_handlers", "rollout", "_batch", "batch", "minimize", "sim", "accuracy",
        "__init__", "__main__",

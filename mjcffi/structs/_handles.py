@@ -11,9 +11,9 @@ handle of that kind (codegen/functions.py and codegen/structs.py write the
 calls below).
 
 Hand-written, beside the generated modules of mjcffi/structs/ that use it (as
-is _checks.py); it imports only the compiled module.  MjSpec (issue 13) builds
-str and list attributes on top of these handles
-(_elements.py); `handle` gives the handle of such a field for the raw functions.
+is _checks.py); it imports only the compiled module.  The spec elements' str and
+list attributes are built on these handles (_element_fields.py,
+_element_vectors.py); `handle` gives the handle of such a field for the raw functions.
 """
 
 from .._library import ffi
@@ -134,7 +134,8 @@ def handle_field(name, kind, doc):
 def handle(obj, name):
     """The handle in field `name` of the spec struct `obj` (MjsBody.childclass as an
     MjStringHandle), for the raw mjs_* functions: the attributes themselves read
-    and write these fields as str, arrays and lists (mjcffi/structs/_elements.py)."""
+    and write these fields as str, arrays and lists (_element_fields.py,
+    _element_vectors.py)."""
     from .._structinfo import STRUCTS
     kind = next(f.elem for f in STRUCTS[obj._cname] if f.name == name)
     pointer = getattr(obj._ptr, name)
