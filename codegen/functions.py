@@ -604,11 +604,15 @@ OVERRIDES = {
     "mj_deleteFileVFS": "it unmounts a provider at that path too: the VFS lets go of it",
     "mju_malloc": "records the pointer, which only mju_free frees",
     "mju_free": "frees only what mju_malloc returned, once",
+    # MuJoCo's UI (mjcffi/_mjui.py): the mjUI keeps pointers to the values its items edit
+    "mjui_add": "takes a sequence of definitions, ended with mjITEM_END for MuJoCo; each "
+                "pdata buffer is checked and kept alive by the MjUI (mjcffi/_mjui.py)",
+    "mjui_addToSection": "as mjui_add, into a section the UI has",
+    **{name: "checks the mjUI's items, indices and kept buffers, and that con was made in "
+             "the current OpenGL context, before MuJoCo runs (mjcffi/_mjui.py)"
+       for name in ("mjui_resize", "mjui_update", "mjui_event", "mjui_render")},
 }
 
-_UI = ("MuJoCo's UI needs a window: an mjUI laid out by mjui_add (itself unsupported) and "
-       "an mjuiState of mouse and keyboard events from a windowing library, drawn into the "
-       "window's framebuffer; mjcffi renders offscreen only")
 _BATCH = ("the batch API hands out an opaque mjBatch and buffers it owns: use "
           "mjcffi.batch.Batch (from mjcffi import batch)")
 _RESOURCE = "mjResource handles are opened and closed by resource providers in C"
@@ -641,8 +645,6 @@ UNSUPPORTED = {
         ("mjs_discardVisual", "frees the visual elements it discards",
          "MjSpec.discard_visual"),
         ("mjs_dedupAssets", "frees the duplicate assets it merges", "MjSpec.dedup_assets"))},
-    "mjui_add": "it takes an mjITEM_END-terminated array of mjuiDef",
-    "mjui_addToSection": "it takes an mjITEM_END-terminated array of mjuiDef",
     "mjc_distance": "it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers",
     "mjc_gradient": "it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers",
     **{name: "it registers C callbacks with MuJoCo" for name in (
@@ -652,7 +654,6 @@ UNSUPPORTED = {
     **{name: _RESOURCE for name in (
         "mju_openResource", "mju_closeResource", "mju_readResource", "mju_getResourceDir",
         "mju_isModifiedResource", "mju_decodeResource", "mjp_findDecoder")},
-    **{name: _UI for name in ("mjui_resize", "mjui_update", "mjui_event", "mjui_render")},
     **{name: _BATCH for name in (
         "mjb_makeBatch", "mjb_deleteBatch", "mjb_nstate", "mjb_state", "mjb_stateComponent",
         "mjb_warning", "mjb_step", "mjb_forward", "mjb_reset", "mjb_status", "mjb_error",

@@ -21,6 +21,10 @@ from ._errors import ArgumentError, with_note
 from ._library import ffi, lib
 from ._views import int_argument
 from .structs import _checks, _handles
+# MuJoCo's UI functions, hand-written in their own module (their mjuiDef arrays)
+from ._mjui import SIGNATURES as _MJUI_SIGNATURES
+from ._mjui import (mjui_add, mjui_addToSection, mjui_event, mjui_render, mjui_resize,
+                    mjui_update)
 
 __all__ = ["mj_step", "mj_forward", "mj_loadXML", "mj_loadModel", "mj_loadModelBuffer",
            "mj_compile", "mj_copyModel", "mj_embedAssets", "mj_makeData", "mj_defaultVFS",
@@ -28,7 +32,8 @@ __all__ = ["mj_step", "mj_forward", "mj_loadXML", "mj_loadModel", "mj_loadModelB
            "mjs_getDouble", "mjr_findRect", "mju_getXMLDependencies", "mju_getLogConfig",
            "mjv_makeScene", "mjv_freeScene", "mjv_defaultScene", "mj_mountVFS", "mj_unmountVFS",
            "mj_deleteFileVFS", "mju_malloc", "mju_free", "mjr_makeContext", "mjr_freeContext",
-           "mjr_readPixels", "mjr_drawPixels"]
+           "mjr_readPixels", "mjr_drawPixels", "mjui_add", "mjui_addToSection", "mjui_resize",
+           "mjui_update", "mjui_event", "mjui_render"]
 
 _step = lib.mjcffi_step
 
@@ -79,6 +84,8 @@ SIGNATURES = {
     "mjr_drawPixels": f"mjr_drawPixels(rgb: {_RGB} | None, depth: {_DEPTH} | None, "
                       f"viewport: {_RECT}, con: {_CON}) -> None",
 }
+
+SIGNATURES.update(_MJUI_SIGNATURES)
 
 
 def mj_step(m, d, nstep=1):
