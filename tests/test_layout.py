@@ -87,7 +87,10 @@ TOP = {"model", "data", "vfs", "log_config", "functions", "_overrides", "warning
        # and the Renderer, which draws with the mjr_* functions; the official import paths
        "rendering", "gl_context", "egl", "osmesa", "glfw", "renderer",
        # model editing (issue 13): the hand-written MjSpec over the generated struct
-       "spec"}
+       "spec",
+       # the interactive viewer (issue 14): GLFW windows drawing with mjv_*/mjr_*; the
+       # mjui_* functions it builds its panels with (hand-written: their mjuiDef arrays)
+       "viewer", "_mjui"}
 TIER = {**{n: "table" for n in TABLES}, **{n: "support" for n in SUPPORT},
         **{n: "generated" for n in GENERATED}, **{n: "top" for n in TOP}, "_mjcffi": "compiled"}
 ALLOWED = {"table": set(), "compiled": set(),
