@@ -21,8 +21,10 @@ Rendering is offscreen, in an OpenGL context of the backend MUJOCO_GL names
 (egl, osmesa or glfw): `sim.render(width, height, camera_name=...)`, or a
 `MjRenderContextOffscreen(sim)` of one's own; `TextureModder` and
 `MaterialModder` randomize textures and materials between frames.  The
-render contexts live in mjcffi/rendering/_sim*.py.  Window rendering (mujoco-py's
-MjViewer) is not available yet.
+render contexts live in mjcffi/rendering/_sim*.py.  mujoco-py's viewers,
+`MjViewer` and `MjViewerBasic` (a window drawn by `viewer.render()` in the
+caller's loop), live in mjcffi/viewer/_simviewer.py and are imported from there
+on first use, so that importing this module needs no glfw.
 """
 
 import contextlib
@@ -46,12 +48,23 @@ from ._simgetters import SimDataGetters, SimModelGetters
 from .model import MjModel
 from .rendering import _simchecks, _simgl
 from .rendering._simmodder import MaterialModder, TextureModder
-from .rendering._simrender import WINDOW_MISSING, MjRenderContext, MjRenderContextOffscreen
+from .rendering._simrender import MjRenderContext, MjRenderContextOffscreen
 
 __all__ = ["SimModel", "SimData", "MjSim", "MjSimState", "MjSimPool", "MujocoException",
            "ignore_mujoco_warnings", "load_model_from_path", "load_model_from_xml",
            "load_model_from_mjb", "MjRenderContext", "MjRenderContextOffscreen",
            "TextureModder", "MaterialModder"]
+
+
+_VIEWERS = ("MjViewer", "MjViewerBasic")
+
+
+def __getattr__(name):
+    """MjViewer and MjViewerBasic, imported when first asked for (they need glfw)."""
+    if name in _VIEWERS:
+        from .viewer import _simviewer
+        return getattr(_simviewer, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 # ------------------------------------------------------------------ model and data
@@ -383,11 +396,16 @@ class MjSim:
 
         ValueError for an unknown camera name, a size that is not positive or does not
         fit the offscreen buffer (MjRenderContextOffscreen.update_offscreen_size grows
-        it), or a mode other than 'offscreen'; `mode='window'` raises
-        NotImplementedError until the viewer exists.
+        it), or a mode other than 'offscreen' and 'window'.  `mode='window'` draws one
+        frame in an interactive window (an MjViewer, made on first use, as mujoco-py
+        did) and returns None.
         """
         if mode == "window":
-            raise NotImplementedError(WINDOW_MISSING)
+            if self._render_context_window is None:
+                from .viewer._simviewer import MjViewer
+                MjViewer(self)          # it becomes sim._render_context_window
+            self._render_context_window.render()
+            return None
         if mode != "offscreen":
             raise ValueError(f"mode must be 'offscreen' or 'window', not {mode!r}")
         camera_id = _simchecks.camera_name(self.model, camera_name)

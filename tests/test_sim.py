@@ -115,8 +115,9 @@ def test_nsubsteps_and_given_data():
     sim.forward()
     sim.reset()
     assert sim.data.time == 0
-    with pytest.raises(NotImplementedError, match="window rendering"):
-        sim.render(64, 64, mode="window")     # offscreen: tests/test_sim_render.py
+    with pytest.raises(ValueError, match="mode must be 'offscreen' or 'window'"):
+        sim.render(64, 64, mode="screen")     # offscreen: tests/test_sim_render.py;
+    # mode='window' (an MjViewer): tests/test_simviewer.py
 
 
 def test_pool_matches_single_sims():

@@ -335,7 +335,6 @@ def bad_input_scenario():
         "float": _outcome(lambda: sim.render(16.5, H)),
         "wide": _outcome(lambda: sim.render(offwidth + 1, H)),
         "high": _outcome(lambda: sim.render(W, offheight + 1)),
-        "window": _outcome(lambda: sim.render(W, H, mode="window")),
         "mode": _outcome(lambda: sim.render(W, H, mode="screen")),
         "device": _outcome(lambda: sim.render(W, H, device_id=-2)),
     }
@@ -410,8 +409,6 @@ def test_bad_input_raises_naming_the_problem(backend):
         assert out[key].startswith("ValueError: an image of ") and \
             "does not fit the offscreen buffer of 640x480" in out[key] and \
             "update_offscreen_size" in out[key], out[key]
-    assert out["window"].startswith("NotImplementedError: window rendering") and \
-        "issue 14" in out["window"]
     assert out["mode"] == "ValueError: mode must be 'offscreen' or 'window', not 'screen'"
     assert out["device"].startswith("ValueError: device_id must be -1")
     assert out["made_before_ok"] == 0                  # refused before any OpenGL work
@@ -488,12 +485,12 @@ def test_the_texture_randomization_example_runs(backend, tmp_path):
 
 def test_refusals_before_any_opengl_work_in_this_process():
     """This pytest process loads no OpenGL library: what is refused is refused first."""
-    from mjcffi.sim import MjRenderContextOffscreen, MjSim, load_model_from_xml
+    from mjcffi.sim import MjRenderContext, MjRenderContextOffscreen, MjSim, load_model_from_xml
     sim = MjSim(load_model_from_xml(BOX))
     with pytest.raises(ValueError, match="unknown camera name 'nope'"):
         sim.render(W, H, camera_name="nope")
-    with pytest.raises(NotImplementedError, match="issue 14"):
-        sim.render(W, H, mode="window")
+    with pytest.raises(NotImplementedError, match="MjViewer"):
+        MjRenderContext(sim, offscreen=False)          # a window is an MjViewer
     with pytest.raises(ValueError, match="width must be a positive number of pixels"):
         sim.render(-1, H)
     with pytest.raises(TypeError, match="sim must be an MjSim"):

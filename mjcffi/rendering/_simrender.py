@@ -33,10 +33,8 @@ from . import _simgl, _simmarker
 MAXGEOM = 10000      # the official Renderer's default; mujoco-py's 1000 drops geoms of big models
 _OFFSCREEN = int(mjtFramebuffer.mjFB_OFFSCREEN)
 _SEGMENT_FLAGS = (int(mjtRndFlag.mjRND_SEGMENT), int(mjtRndFlag.mjRND_IDCOLOR))
-WINDOW_MISSING = ("window rendering (mode='window', mujoco-py's MjViewer and "
-                  "MjRenderContextWindow) is not available yet: it comes with the interactive "
-                  "viewer (issue 14).  Render offscreen: sim.render(width, height) or "
-                  "MjRenderContextOffscreen(sim)")
+WINDOW_MISSING = ("a render context draws offscreen only: for a window, use "
+                  "mjcffi.sim.MjViewer(sim) (or MjViewerBasic), or sim.render(mode='window')")
 
 
 class MjRenderContext:
@@ -47,7 +45,7 @@ class MjRenderContext:
     the one `sim.render` uses).  `device_id` picks an EGL device (-1: the default; see
     `mjcffi.rendering._simgl`); `opengl_backend`, if given, must name the backend that
     MUJOCO_GL chose ('egl', 'osmesa', 'glfw'): a process renders with one.
-    `offscreen=False` (a window) is not available yet.
+    `offscreen=False` (a window) is refused: MjViewer(sim) is the window.
 
     `render(width, height, camera_id=None)` draws a frame into the offscreen buffer and
     `read_pixels(width, height, depth=True)` reads it back.  `free()` releases the
