@@ -68,8 +68,6 @@ NOTES = (
          "The tests load the official package's own `egl/__init__.py` by file path, with a fake "
          "PyOpenGL, to test its device selection; mjcffi's EGL binding (issue 12) is cffi, "
          "not PyOpenGL."),
-    Note(("viewer_test.py::*",), GAP,
-         "mjcffi has no `viewer` module yet: issue 14 builds it."),
     Note(("msh2obj_test.py::*",), GAP,
          "mjcffi has no `msh2obj`, the official package's converter of Gmsh meshes to OBJ "
          "files; no issue plans it yet."),
