@@ -80,9 +80,14 @@ def _bind_one(owner, element):
     """The accessor of `element`'s compiled counterpart in `owner`."""
     try:
         c_element = element._ptr.element
-        category = _CATEGORY_OF[c_element.elemtype]
+        empty = c_element == ffi.NULL         # the plugin slot of a body holds none
+        category = None if empty else _CATEGORY_OF[c_element.elemtype]
     except Exception:        # not an element, one with no counterpart, or a deleted one
         return _refuse(owner, element)
+    if empty or lib.mjs_getCompiler(c_element) == ffi.NULL:
+        # no element, or a default class's template (default.geom): in no spec
+        raise TypeError(f"cannot bind {_label(element)}: it is no element of a spec "
+                        f"(a default class's template or an empty plugin slot)")
     model = owner if owner._cname == "mjModel" else owner._model
     spec = lib.mjcffi_guard_mjs_getSpec(c_element)
     _marshal.check_error()

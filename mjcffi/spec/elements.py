@@ -29,6 +29,7 @@ from .._enums import mjtMeshBuiltin, mjtObj, mjtWrap
 from .._library import ffi, lib
 from ..structs import _elements
 from ..structs import mjspec as _generated
+from . import lifetime
 
 NULL = ffi.NULL
 
@@ -60,6 +61,16 @@ def _element(value, cls, where, name):
 
 def _spec_of(pointer):
     """The mjSpec * that holds element `pointer` (a typed mjs* pointer) now."""
+    return lib.mjs_getSpec(pointer.element)
+
+
+def _held_spec(pointer, where):
+    """The mjSpec * that holds element `pointer`: ValueError for a struct of an
+    element class that no spec holds (a default class's template, default.geom),
+    where MuJoCo would read the spec it has not and crash."""
+    if lib.mjs_getCompiler(pointer.element) == NULL:
+        raise ValueError(f"{where}: the element is not attached to a spec (it is a "
+                         f"default class's template, such as default.geom)")
     return lib.mjs_getSpec(pointer.element)
 
 
@@ -110,9 +121,14 @@ def _numbers(value, size, dtype, where, name):
         raise TypeError(f"{where}: {name} must be a sequence of {size} numbers, "
                         f"not {type(value).__name__}")
     try:
-        array = np.asarray(value, dtype=float)
+        raw = np.asarray(value)
+        # complex would lose its imaginary part, bools are no ints (as _integer)
+        if raw.dtype.kind == "c" or (dtype == "int" and raw.dtype.kind == "b"):
+            raise TypeError
+        array = np.asarray(raw, dtype=float)
     except (TypeError, ValueError):
-        raise TypeError(f"{where}: {name} must be a sequence of numbers") from None
+        raise TypeError(f"{where}: {name} must be a sequence of {size} real numbers"
+                        + (" (ints)" if dtype == "int" else "")) from None
     if array.shape != (size,):
         raise ValueError(f"{where}: {name} must have {size} elements, got shape "
                          f"{array.shape}")
@@ -181,13 +197,15 @@ def _children(self, kind, recurse):
 
 def _rehome(child_root, parent_root):
     """After an attach: the wrappers of elements that moved from the child spec into
-    the parent go over to the parent's registry, and the parent keeps the child's
-    memory alive."""
+    the parent go over to the parent's registry, and the two specs keep each other
+    alive (the moved elements point into both; see lifetime._Release).  A root
+    lifetime did not make (a spec from a raw function) is kept by the parent only."""
     parent = _address(parent_root)
     _ROOTS[parent] = parent_root
     if _address(child_root) == parent:
         return
-    _KEPT.setdefault(parent_root, {})[_address(child_root)] = child_root
+    if not lifetime.keep_together(parent_root, child_root):
+        _KEPT.setdefault(parent_root, {})[_address(child_root)] = child_root
     source, target = _elements._registry(child_root), _elements._registry(parent_root)
     for key, wrapper in list(source.items()):
         if _address(lib.mjs_getSpec(wrapper._ptr.element)) == parent:
@@ -207,7 +225,7 @@ class _Element:
         """The compilation signature of the spec holding the element: the `signature`
         of the model it last compiled to, 0 once an element was added since.  (MuJoCo
         keeps it on the spec's mjsElement; an element's own field is not kept.)"""
-        return _spec_of(self._ptr).element.signature
+        return _held_spec(self._ptr, _where(self, "signature")).element.signature
 
     @property
     def id(self):
@@ -221,6 +239,9 @@ class _Element:
         """The compiler options of the spec the element was defined in."""
         pointer = lib.mjcffi_guard_mjs_getCompiler(self._ptr.element)
         _marshal.check_error()
+        if pointer == NULL:
+            raise ValueError(f"{_where(self, 'compiler')}: Element is not attached to a "
+                             f"spec.")
         return _generated.MjsCompiler._wrap(pointer, self._root)
 
 
@@ -231,6 +252,7 @@ class _Classed:
     def classname(self):
         """The default class (MjsDefault) of the element; assign an MjsDefault of the
         same spec to change it."""
+        _held_spec(self._ptr, _where(self, "classname"))
         pointer = lib.mjcffi_guard_mjs_getDefault(self._ptr.element)
         _marshal.check_error()
         return _wrap(self, pointer)
@@ -241,7 +263,7 @@ class _Classed:
         pointer = _element(default, _generated.MjsDefault, where, "the default")
         # a default's spec is found by its name (mjs_getSpec does not serve defaults)
         name = lib.mjs_getString(lib.mjs_getName(pointer.element))
-        if lib.mjs_findDefault(_spec_of(self._ptr), name) != pointer:
+        if lib.mjs_findDefault(_held_spec(self._ptr, where), name) != pointer:
             raise ValueError(f"{where}: the default belongs to another spec")
         lib.mjcffi_guard_mjs_setDefault(self._ptr.element, pointer)
         _marshal.check_error()
@@ -269,10 +291,27 @@ class _InTree:
         where = _where(self, "set_frame")
         pointer = _element(frame, _generated.MjsFrame, where, "frame")
         _same_spec(self, pointer, where, "frame")
+        if _encloses(self._ptr.element, pointer):
+            raise ValueError(f"{where}: a frame cannot be placed in itself or in a frame "
+                             f"inside it")
         status = lib.mjcffi_guard_mjs_setFrame(self._ptr.element, pointer)
         _marshal.check_error()
         if status != 0:
             raise _spec_error(self._ptr, "mjs_setFrame")
+
+
+def _encloses(element, frame):
+    """Whether `frame` (an mjsFrame *) is `element` or lies inside it: placing the
+    element in it would close a loop of frames, which MuJoCo takes and then
+    recurses on without end when it compiles."""
+    current = frame.element
+    while current != NULL:
+        if current == element:
+            return True
+        current = lib.mjcffi_guard_mjs_getFrame(current)
+        _marshal.check_error()
+        current = NULL if current == NULL else current.element
+    return False
 
 
 def _attach(self, child, cls, where, prefix, suffix):
@@ -280,6 +319,18 @@ def _attach(self, child, cls, where, prefix, suffix):
     `prefix` and `suffix` added to the names it brings; the attached element."""
     pointer = _element(child, cls, where, type(child).__name__[3:].lower()
                        if isinstance(child, cls) else "child")
+    _held_spec(self._ptr, where)
+    held = _held_spec(pointer, where)
+    # one attached by reference before is listed by the spec it came from still,
+    # whose wrappers MuJoCo then moves half-way, or through the spec it moved to
+    # (compared first: that one may be freed, which the wrapper does not prevent)
+    if _address(held) != _address(child._root) or held != lib.mjs_getOriginSpec(
+            pointer.element):
+        raise ValueError(f"{where}: this {type(child).__name__[3:].lower()} was attached "
+                         f"before (moved, not copied, into a spec): it cannot be attached "
+                         f"again.  To attach copies, set copy_during_attach on the "
+                         f"receiving spec before the first attach, or attach from a "
+                         f"copy() of the spec it came from")
     result = lib.mjcffi_guard_mjs_attach(self._ptr.element, pointer.element,
                                          _text(prefix, where, "prefix"),
                                          _text(suffix, where, "suffix"))
@@ -481,13 +532,25 @@ class MjsLight(_InTree, _Classed, _Element, _generated.MjsLight):
 
 # ----------------------------------------------------------------- meshes
 
+# What a built-in shape writes: a refused one may have written some of it already.
+_MESH_DATA = ("uservert", "usernormal", "usertexcoord", "userface", "userfacenormal",
+              "userfacetexcoord", "usernode", "usertet")
+
+
 def _builtin(mesh, builtin, params, where):
-    """Fill `mesh` with MuJoCo's built-in shape `builtin` made from `params`."""
+    """Fill `mesh` with MuJoCo's built-in shape `builtin` made from `params`; if
+    MuJoCo refuses them, the mesh keeps the data it had."""
+    _held_spec(mesh._ptr, where)        # MuJoCo reports a refusal through the spec
     values = ffi.new("double[]", [float(p) for p in params])
+    before = {name: np.array(getattr(mesh, name)) for name in _MESH_DATA}
     status = lib.mjcffi_guard_mjs_makeMesh(mesh._ptr, builtin, values, len(params))
     _marshal.check_error()
     if status != 0:
-        raise _spec_error(mesh._ptr, where)
+        error = _spec_error(mesh._ptr, where)
+        for name, data in before.items():
+            if not np.array_equal(np.array(getattr(mesh, name)), data):
+                setattr(mesh, name, data)
+        raise error
 
 
 def _pair(value, dtype, where, name):
@@ -652,6 +715,7 @@ class MjsTendon(_Element, _generated.MjsTendon):
 
     def default(self):
         """The default class (MjsDefault) of the tendon."""
+        _held_spec(self._ptr, _where(self, "default"))
         pointer = lib.mjcffi_guard_mjs_getDefault(self._ptr.element)
         _marshal.check_error()
         return _wrap(self, pointer)
@@ -702,11 +766,17 @@ def _one(value, where, name):
 
 
 def _set_to(actuator, function, where, *args):
-    """Call MuJoCo's mjs_setTo* `function`; its error text becomes ValueError."""
+    """Call MuJoCo's mjs_setTo* `function`; its error text becomes ValueError, and
+    the actuator keeps the values it had (MuJoCo may have set some before it
+    found the error: the gain before refusing a negative one)."""
+    # these write numbers and enums of the struct only, never its pointers, so
+    # the struct's bytes are what to restore
+    saved = bytes(ffi.buffer(actuator._ptr))
     error = getattr(lib, "mjcffi_guard_" + function)(actuator._ptr, *args)
     _marshal.check_error()
     message = _marshal.string(error) if error != NULL else ""
     if message:
+        ffi.buffer(actuator._ptr)[:] = saved
         raise ValueError(f"{where}: {message}")
 
 

@@ -18,6 +18,8 @@ operation (ValueError).  The others have their values taken before the free, so
 that they still read as they were, as official.
 """
 
+import weakref
+
 from .. import _marshal as _m
 from .._library import ffi, lib
 from ..structs import _elements
@@ -36,9 +38,56 @@ def wrap(spec, pointer):
     return _elements.wrap(pointer, spec)
 
 
+# ------------------------------------------------------------- spec memory
+
+class _Release:
+    """The destructor of a spec's root (mj_deleteSpec), holding the roots of the
+    specs that must live as long as it does.
+
+    Attaching an element by reference makes two specs share it: the element points
+    to the spec that holds it now (for its name, its parent, the errors MuJoCo
+    reports) and to the compiler of the spec that made it, while both specs list
+    it.  Each spec must then keep the other alive, or a use of the survivor reads
+    freed memory.  cffi traverses a root's destructor for the garbage collector,
+    so two roots that keep each other this way are freed together, as a cycle,
+    once nothing else uses either."""
+
+    __slots__ = ("kept", "__weakref__")
+
+    def __init__(self):
+        self.kept = {}
+
+    def __call__(self, pointer):
+        lib.mj_deleteSpec(pointer)
+
+
+# spec address -> the _Release of its root
+_RELEASES: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
+
+
+def own_spec(pointer):
+    """The root of a new mjSpec * (not NULL): a pointer that frees it when collected,
+    which `keep_together` can bind to another."""
+    release = _Release()
+    root = ffi.gc(pointer, release)
+    _RELEASES[address(pointer)] = release
+    return root
+
+
+def keep_together(a_root, b_root):
+    """Keep the specs of two roots alive as long as either is; False (nothing done)
+    when a root was not made by `own_spec`."""
+    a, b = _RELEASES.get(address(a_root)), _RELEASES.get(address(b_root))
+    if a is None or b is None:
+        return False
+    a.kept[address(b_root)] = b_root
+    b.kept[address(a_root)] = a_root
+    return True
+
+
 # ------------------------------------------------------------------ survey
 
-def _elements_in_order(c_spec):
+def elements_in_order(c_spec):
     """Every listed element of a spec: {mjtObj: [mjsElement *, ...]} in list order."""
     found = {}
     for type_ in kinds.BY_TYPE:
@@ -59,7 +108,7 @@ def _wraps(tendon):
 
 def _live(c_spec):
     """Addresses of the listed elements of a spec and of its tendons' wraps."""
-    listed = _elements_in_order(c_spec)
+    listed = elements_in_order(c_spec)
     live = {address(e) for items in listed.values() for e in items}
     for tendon in listed[int(kinds.mjtObj.mjOBJ_TENDON)]:
         live.update(address(w) for w in _wraps(tendon))
@@ -119,7 +168,7 @@ class _Counterparts:
     def __init__(self, c_spec, c_copy):
         self.c_copy = c_copy
         self.pairs, self.unmapped = {}, set()
-        ours, theirs = _elements_in_order(c_spec), _elements_in_order(c_copy)
+        ours, theirs = elements_in_order(c_spec), elements_in_order(c_copy)
         for type_, items in ours.items():
             if len(items) == len(theirs[type_]):
                 self.pairs.update((address(a), b) for a, b in zip(items, theirs[type_]))

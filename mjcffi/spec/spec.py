@@ -44,6 +44,52 @@ def _both_given(include, assets, vfs):
         raise ValueError("Cannot specify both 'vfs' and 'include'/'assets'.")
 
 
+def _each(c_spec, type_):
+    """The mjsElement * of every element of mjtObj `type_` in a spec."""
+    element = _call(lib.mjcffi_guard_mjs_firstElement, c_spec, type_)
+    while element != ffi.NULL:
+        yield element
+        element = _call(lib.mjcffi_guard_mjs_nextElement, c_spec, element)
+
+
+def _element_name(element):
+    return _m.string(lib.mjs_getString(lib.mjs_getName(element)))
+
+
+def _check_compilable(c_spec):
+    """ValueError for what MuJoCo's compiler takes without a check and crashes on,
+    values the MJCF parser refuses but a spec edited in code may hold: a plugin
+    element that names no plugin (spec.add_plugin() left as made), a mesh whose
+    maxhullvert is 0 to 3 (qhull cannot make such a hull)."""
+    for element in _each(c_spec, kinds.mjtObj.mjOBJ_PLUGIN):
+        if not _m.string(lib.mjs_getString(lib.mjs_asPlugin(element).plugin_name)):
+            raise ValueError(f"plugin {_element_name(element)!r} names no plugin: set its "
+                             f"plugin_name (such as 'mujoco.pid', activated with "
+                             f"activate_plugin) or delete it")
+    for element in _each(c_spec, kinds.mjtObj.mjOBJ_MESH):
+        if 0 <= lib.mjs_asMesh(element).maxhullvert <= 3:
+            raise ValueError(f"mesh {_element_name(element)!r}: maxhullvert must be larger "
+                             f"than 3 (or -1: no limit)")
+
+
+def _classed(c_spec):
+    """The listed elements of a spec that have a default class (mjsElement *)."""
+    return [e for items in lifetime.elements_in_order(c_spec).values() for e in items
+            if _call(lib.mjcffi_guard_mjs_getDefault, e) != ffi.NULL]
+
+
+def _reclass_orphans(c_spec, classed):
+    """After a default class was deleted: the elements of `classed` whose class went
+    with it take the main class.  MuJoCo leaves them naming the deleted class,
+    which saving the spec (to_xml) dereferences and crashes on.  Their values are
+    their own (a class only gives the values an element starts with), so they
+    compile as before, and to_xml writes them in full."""
+    main = _call(lib.mjcffi_guard_mjs_getSpecDefault, c_spec)
+    for c_element in classed:
+        if _call(lib.mjcffi_guard_mjs_getDefault, c_element) == ffi.NULL:
+            _call(lib.mjcffi_guard_mjs_setDefault, c_element, main)
+
+
 def _label(element):
     """How an error names `element`: "MjsBody 'arm'", or its class alone."""
     name = getattr(element, "name", "")
@@ -81,7 +127,7 @@ class MjSpec(_generated.MjSpec):
     def _adopt_spec(self, pointer, assets):
         if pointer == ffi.NULL:
             raise MemoryError("MuJoCo could not allocate the mjSpec")
-        self._adopt_root(ffi.gc(pointer, lib.mj_deleteSpec), assets)
+        self._adopt_root(lifetime.own_spec(pointer), assets)
 
     def _adopt_root(self, root, assets):
         self._init_root(root)
@@ -269,6 +315,7 @@ class MjSpec(_generated.MjSpec):
         UserWarnings.  With compiler.fusestatic or discardvisual set, compiling
         frees the fused bodies or the visual elements, as fuse_static() and
         discard_visual() do."""
+        _check_compilable(self._ptr)
         self.__dict__["_compiled"] = False
         with vfs_pointer(self._assets, vfs) as c_vfs:
             if self._frees_when_compiled():
@@ -286,6 +333,7 @@ class MjSpec(_generated.MjSpec):
         they were.  Assets as in compile().  A spec that was not compiled yet is
         compiled first (MuJoCo's mj_recompile reads what compiling left)."""
         c_m, c_d = _m.model_data(m, d)
+        _check_compilable(self._ptr)
         if not self._compiled:
             self.compile(vfs)
         with vfs_pointer(self._assets, vfs) as c_vfs:
@@ -495,7 +543,11 @@ class MjSpec(_generated.MjSpec):
             if _call(lib.mjcffi_guard_mjs_delete, c_spec, counterpart(c_element)) != 0:
                 raise _spec_error(c_spec, "mjs_delete")
 
+        is_default = int(c_element.elemtype) == int(kinds.mjtObj.mjOBJ_DEFAULT)
+        classed = _classed(self._ptr) if is_default else ()
         lifetime.freeing(self, f"delete {_label(element)}", delete)
+        if is_default:
+            _reclass_orphans(self._ptr, classed)
 
     def _element_pointer(self, element, name, owner_message=None, attached_message=None):
         """The mjsElement * of an element wrapper of this spec.  An element moved into
@@ -511,8 +563,13 @@ class MjSpec(_generated.MjSpec):
             raise TypeError(f"{name} must be a spec element, not "
                             f"{type(element).__name__}") from None
         if isinstance(element, MjSpec) or not isinstance(c_element, ffi.CData) or \
-                ffi.typeof(c_element) is not ffi.typeof("mjsElement *"):
+                ffi.typeof(c_element) is not ffi.typeof("mjsElement *") or \
+                c_element == ffi.NULL:      # the plugin slot of a body, say
             raise TypeError(f"{name} must be a spec element, not {type(element).__name__}")
+        if int(c_element.elemtype) != int(kinds.mjtObj.mjOBJ_DEFAULT) and \
+                _call(lib.mjcffi_guard_mjs_getCompiler, c_element) == ffi.NULL:
+            raise ValueError(f"{name} is not attached to a spec: a default class's "
+                             f"template ({type(element).__name__} of an MjsDefault)")
         if int(c_element.elemtype) not in kinds.BY_TYPE and \
                 int(c_element.elemtype) != int(kinds.mjtObj.mjOBJ_DEFAULT):
             raise TypeError(f"{name} must be a spec element such as an MjsBody, not "
