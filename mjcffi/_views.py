@@ -262,7 +262,11 @@ class Records:
 def assign(target, value, name):
     """Write `value` into the view `target`, naming the field on a bad shape or value.
 
-    A value that does not fit the dtype (NumPy's OverflowError) is a ValueError."""
+    A value that does not fit the dtype (NumPy's OverflowError) is a ValueError; a
+    complex array into a real view is a TypeError (NumPy would drop the imaginary part)."""
+    if getattr(value, "dtype", None) is not None and value.dtype.kind == "c" and \
+            target.dtype.kind != "c":
+        raise TypeError(f"cannot assign complex values to {name} of dtype {target.dtype}")
     try:
         target[...] = value
     except (ValueError, TypeError, OverflowError) as exc:

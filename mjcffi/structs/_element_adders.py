@@ -64,6 +64,8 @@ def _orientations(cls, attrs):
 def _sized(cls, key, value, length, padded=False, scalable=False):
     """A fixed array's keyword, by the official's rules: `length` numbers; 1 to
     `length` if `padded` (zeros after), or a number; a number if `scalable`."""
+    if np.iscomplexobj(value):
+        raise TypeError(f"{cls.__name__}.{key} takes real numbers, not complex")
     if isinstance(value, (int, float, np.number)) and not isinstance(value, bool):
         if padded:
             return [value] + [0] * (length - 1)
@@ -229,12 +231,18 @@ def adder(function, result, params, doc):
     only = _ONLY.get(function)
 
     plain = (NULL,) if takes_default else ()    # the C arguments of add_*() alone
+    wraps = function.startswith("mjs_wrap")
 
     def add(self, *args, default=None, **attrs):
         if args or named or default is not None:
             c_args = arguments(args, default, attrs)
+            _same_spec(self, c_args, named, function)
         else:
             c_args = plain
+        if attrs and wraps:
+            # a refused keyword could not be undone: MuJoCo deletes no wrap
+            raise TypeError(f"{function[4:]} takes no attribute keywords "
+                            f"({', '.join(sorted(attrs))}); set them on the wrap it returns")
         pointer = guard(self._ptr, *c_args)
         _marshal.check_error()
         element = wrap(pointer, self)
@@ -276,6 +284,16 @@ def adder(function, result, params, doc):
     add.__doc__ = doc
     add.__name__ = function
     return add
+
+
+def _same_spec(parent, c_args, named, function):
+    """Refuse an element argument (add_frame's parent frame) of another spec than
+    `parent`'s: MuJoCo would link the two specs' trees."""
+    spec = lib.mjs_getSpec(parent._ptr.element)
+    for c_arg, (name, kind) in zip(c_args, named):
+        if kind not in ("text", "double") and c_arg != NULL and \
+                lib.mjs_getSpec(c_arg.element) != spec:
+            raise ValueError(f"{function[4:]}: {name} belongs to another spec")
 
 
 def frame_adder(function, result, params, doc):

@@ -112,6 +112,10 @@ def element_name(doc="the element's name"):
     def set_value(self, value):
         if value.__class__ is not str or "\0" in value:
             _text(self, "name", value)            # raises, naming the problem
+        if self.__dict__.get("_in_default"):
+            # MuJoCo would look for the spec, which a default's template has not
+            raise TypeError(f"{_where(self, 'name')}: a default class's template has no "
+                            f"name of its own; name the class (spec.add_default(name))")
         element = self._ptr.element
         failed = _set_name(element, value.encode())
         message = _take_error()
@@ -280,6 +284,10 @@ class _MemberRef:
         generated = self.wrapper()
         cls = _BY_KIND.get(generated.__name__[3:], generated)
         value = obj.__dict__[self.name] = cls._wrap(pointer, obj._root)
+        if obj._cname == "mjsDefault":
+            # a template (see element_name); it keeps its default's wrapper alive, so
+            # that deleting the default ends the template with it (_elements._end)
+            value.__dict__.update(_in_default=True, _owner=obj)
         return value
 
 
