@@ -73,11 +73,16 @@ class MjRenderContext:
         except BaseException:
             gl.free()
             raise
+        self._adopt_gl(gl)
+        sim.add_render_context(self)
+
+    def _adopt_gl(self, gl):
+        """Take `gl` (its MjrContext and scene made) and start the camera, options and
+        perturbation as mujoco-py did: what every render context does once made."""
         self._gl = gl
         self.cam, self.vopt, self.pert = MjvCamera(), MjvOption(), MjvPerturb()
         self.pert.active, self.pert.select, self.pert.skinselect = 0, 0, -1
         self._init_camera()
-        sim.add_render_context(self)
 
     # ------------------------------------------------------------ setup
 

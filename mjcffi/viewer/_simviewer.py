@@ -46,7 +46,7 @@ from .. import functions as _f
 from .._enums import mjtCatBit, mjtFont, mjtFontScale, mjtFramebuffer, mjtGridPos, mjtVisFlag
 from ..rendering import _simmarker
 from ..rendering._simrender import MAXGEOM, MjRenderContext
-from ..structs import MjrContext, MjrRect, MjvCamera, MjvOption, MjvPerturb, MjvScene
+from ..structs import MjrContext, MjrRect, MjvScene
 from . import _interaction, _overlay
 from ._input import WindowState
 from ._viewer import window_size
@@ -122,10 +122,7 @@ class MjViewerBasic(MjRenderContext):
         except BaseException:
             gl.free()
             raise
-        self._gl = gl
-        self.cam, self.vopt, self.pert = MjvCamera(), MjvOption(), MjvPerturb()
-        self.pert.active, self.pert.select, self.pert.skinselect = 0, 0, -1
-        self._init_camera()
+        self._adopt_gl(gl)
         self.on_resize()
         sim.add_render_context(self)
         if sim._render_context_window is None:
