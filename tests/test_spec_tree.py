@@ -472,7 +472,7 @@ def test_make_flex_refusals():
         body.make_flex(name="a", count=[3, 3])
     with pytest.raises(TypeError, match="dim must be an int"):
         body.make_flex(name="a", dim=2.5)
-    with pytest.raises(ValueError, match="does not fit in a C int"):
+    with pytest.raises(ValueError, match="is out of range for a C int"):
         body.make_flex(name="a", count=[2 ** 40, 2, 2])
     with pytest.raises(ValueError, match="Invalid dim"):
         body.make_flex(name="a", dim=4)

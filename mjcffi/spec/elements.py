@@ -27,6 +27,7 @@ import numpy as np
 from .. import _marshal
 from .._enums import mjtMeshBuiltin, mjtObj, mjtWrap
 from .._library import ffi, lib
+from .._views import int_argument
 from ..structs import _elements
 from ..structs import mjspec as _generated
 from . import lifetime
@@ -88,21 +89,11 @@ def _opt_text(value, where, name):
     return NULL if value is None else _marshal.text(value, f"{where}: {name}")
 
 
-_INT_RANGE = range(-2 ** 31, 2 ** 31)
-
-
 def _integer(value, where, name):
-    """`value` as a C int: an int (not a bool or float) within its range."""
-    if isinstance(value, (bool, float)):
-        raise TypeError(f"{where}: {name} must be an int, not {type(value).__name__}")
-    try:
-        number = operator.index(value)
-    except TypeError:
-        raise TypeError(f"{where}: {name} must be an int, "
-                        f"not {type(value).__name__}") from None
-    if number not in _INT_RANGE:
-        raise ValueError(f"{where}: {name}={number} does not fit in a C int")
-    return number
+    """`value` as a C int: an int (not a bool) within its range (int_argument)."""
+    if isinstance(value, bool):
+        raise TypeError(f"{where}: {name} must be an int, not bool")
+    return int_argument(value, f"{where}: {name}", "int")
 
 
 def _number(value, where, name):
