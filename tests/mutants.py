@@ -82,9 +82,9 @@ MUTANTS = [
         ["tests/test_mutation_gaps.py"]),
     _mutant(
         "simstate_swap", "MjSimState.flatten/from_flattened swap qpos and qvel consistently",
-        [("mjcffi/sim.py", "np.ravel(self.qpos),\n                 np.ravel(self.qvel)]",
+        [("mjcffi/sim/_state.py", "np.ravel(self.qpos),\n                 np.ravel(self.qvel)]",
           "np.ravel(self.qvel),\n                 np.ravel(self.qpos)]"),
-         ("mjcffi/sim.py", "qpos = array[1:1 + nq]\n    qvel = array[1 + nq:1 + nq + nv]",
+         ("mjcffi/sim/_state.py", "qpos = array[1:1 + nq]\n    qvel = array[1 + nq:1 + nq + nv]",
           "qvel = array[1:1 + nv]\n    qpos = array[1 + nv:1 + nv + nq]")],
         ["tests/test_sim.py"]),
 
