@@ -8,7 +8,7 @@ import argparse
 import pathlib
 
 from . import (comments, extents, fields, functions, guards, headers, named, outputs, parse,
-               simgetters, structs)
+               simconst, simgetters, structs)
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -32,6 +32,7 @@ def generate():
         **functions.generate(decls, notes, described, header_texts),
         **named.generate(described),
         **simgetters.generate(described, decls),
+        **simconst.generate(decls, header_texts),
     }
 
 

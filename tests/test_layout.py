@@ -66,7 +66,8 @@ def test_basic_types_have_the_abi_sizes(name, size):
 
 PACKAGE = Path(mjcffi.__file__).parent
 
-TABLES = {"_enums", "_constants", "_structinfo", "_funcinfo", "_namedinfo"}
+TABLES = {"_enums", "_constants", "_structinfo", "_funcinfo", "_namedinfo",
+          "sim.generated"}     # mujoco-py's names for the constants (issue 15)
 SUPPORT = {"_library", "_errors", "_views", "_marshal", "_arena", "_loading", "plugins",
            "_stringtables", "callbacks", "named", "_simsupport", "_modelcheck",
            # not named in the README's list, and importing nothing of the package
@@ -76,9 +77,10 @@ SUPPORT = {"_library", "_errors", "_views", "_marshal", "_arena", "_loading", "p
            "structs._elements", "structs._element_fields", "structs._element_vectors",
            "structs._element_adders"}
 GENERATED = {"_functions", "_simgetters", "structs"}
-# Hand-written modules beside the generated struct classes, used by them and by the
-# support layer (the mjr_* checks): units of their own, in the support layer.
-OWN_UNITS = {"structs._checks", "structs._handles", "structs._elements",
+# Units of their own inside a package: the hand-written modules beside the generated
+# struct classes, used by them and by the support layer (the mjr_* checks), in the
+# support layer; and mjcffi.sim's generated constants, a table.
+OWN_UNITS = {"sim.generated", "structs._checks", "structs._handles", "structs._elements",
              "structs._element_fields", "structs._element_vectors", "structs._element_adders"}
 TOP = {"model", "data", "vfs", "log_config", "functions", "_overrides", "warning_errors",
        "user_handlers", "rollout", "_batch", "batch", "minimize", "sim", "accuracy",
