@@ -2,14 +2,16 @@
 
 `SimModelGetters` (for an MjModel subclass) has, per named category of
 mjModel, `<name>_name2id`, `<name>_id2name` and the property `<name>_names`,
-plus `get_joint_qpos_addr` / `get_joint_qvel_addr`.  `SimDataGetters` (for an
-MjData subclass) has the `get_<object>_<quantity>` getters listed in DATA
-below, the joint, mocap and sensor getters and setters.
+`get_joint_qpos_addr` / `get_joint_qvel_addr` and the userdata names.
+`SimDataGetters` (for an MjData subclass) has the `get_<object>_<quantity>`
+getters listed in DATA below, the joint, mocap, sensor and userdata getters
+and setters, and the whole-array attributes of BATCH (`body_xpos`,
+`site_jacp`, ...).  Jacobians are flat (3 * nv,) and velocities are
+Jacobian @ qvel, as in mujoco-py.
 
-The categories come from mjModel's `name_*adr` fields (as for named access),
-the object types from the mjtObj enum.  The methods call the hand-written
-helpers of mjcffi/_simsupport.py; the tables below are the only special
-cases.
+The categories come from mjModel's `name_*adr` fields (as for named access).
+The methods call the hand-written helpers of mjcffi/_simsupport.py; the
+tables below are the only special cases.
 """
 
 import textwrap
@@ -20,31 +22,49 @@ from . import named, outputs
 PUBLIC = {"jnt": "joint", "cam": "camera", "tex": "texture", "mat": "material",
           "eq": "equality", "key": "keyframe"}
 
-# Data getters: object -> (category, mjtObj for velocities or None,
-# Jacobian function or None, [(quantity, mjData field, kind)]).  Kinds: "copy"
-# (a copy of the row), "mat" (a 3x3 copy of a 9-wide row).
+# Data getters: object -> (category, Jacobian function or None,
+# [(quantity, mjData field, kind)]).  Kinds: "copy" (a copy of the row), "mat"
+# (a 3x3 copy of a 9-wide row).  mj_jac: at the frame's position on its body.
 DATA = {
-    "body": ("body", "mjOBJ_XBODY", "mj_jacBody",
+    "body": ("body", "mj_jacBody",
              [("xpos", "xpos", "copy"), ("xquat", "xquat", "copy"), ("xmat", "xmat", "mat"),
               ("xipos", "xipos", "copy"), ("ximat", "ximat", "mat")]),
-    "geom": ("geom", "mjOBJ_GEOM", "mj_jacGeom",
+    "geom": ("geom", "mj_jacGeom",
              [("xpos", "geom_xpos", "copy"), ("xmat", "geom_xmat", "mat")]),
-    "site": ("site", "mjOBJ_SITE", "mj_jacSite",
+    "site": ("site", "mj_jacSite",
              [("xpos", "site_xpos", "copy"), ("xmat", "site_xmat", "mat")]),
-    "camera": ("cam", "mjOBJ_CAMERA", None,
+    "camera": ("cam", "mj_jac",
                [("xpos", "cam_xpos", "copy"), ("xmat", "cam_xmat", "mat")]),
-    "light": ("light", None, None,
+    "light": ("light", None,
               [("xpos", "light_xpos", "copy"), ("xdir", "light_xdir", "copy")]),
-    "joint": ("jnt", None, None,
+    "joint": ("jnt", None,
               [("xanchor", "xanchor", "copy"), ("xaxis", "xaxis", "copy")]),
 }
+
+# Objects whose Jacobian getters mujoco-py had (a camera has velocities only).
+JACOBIANS = ("body", "geom", "site")
+
+# Whole-array attributes of mujoco-py's PyMjData: object -> (size, {attribute
+# suffix: the mjData field it is a view of}); each also has jacp, jacr, xvelp
+# and xvelr, one row per object.
+BATCH = {"body": ("nbody", {"xpos": "xpos", "xquat": "xquat", "xmat": "xmat"}),
+         "geom": ("ngeom", {}),
+         "site": ("nsite", {})}
+
+# Getters mujoco-py refused with a RuntimeError naming the one to call instead.
+RENAMED = {"get_xpos": "get_body_xpos", "get_xquat": "get_body_xquat",
+           "get_xmat": "get_body_xmat", "get_xipos": "get_body_xipos",
+           "get_ximat": "get_body_ximat", "get_xanchor": "get_joint_xanchor",
+           "get_xaxis": "get_joint_xaxis", "get_sensordata": "get_sensor"}
 
 # Short names also given to data getters (get_cam_xpos is get_camera_xpos).
 DATA_ALIASES = {"camera": "cam"}
 
 # What the generated methods call, from the hand-written mjcffi/_simsupport.py.
-_SUPPORT = ('UnknownNameError', '_addr', '_all_names', '_get', '_id', '_jacobian', '_mocap_id', '_name', '_set', '_set_row', '_span', '_velocity')
-
+_SUPPORT = ('UnknownIdError', 'UnknownNameError', '_addr', '_all_names', '_camera_jacobian',
+            '_get', '_id', '_jacobian', '_jacobians', '_mocap_id', '_name', '_set',
+            '_set_row', '_set_userdata_names', '_span', '_userdata_id', '_userdata_name',
+            '_userdata_names', '_velocity')
 
 
 def _public(category):
@@ -78,37 +98,97 @@ def _model_methods(cats, model_fields):
                          f"Where joint `name` lies in {dofs}: an int for a 1-wide joint, else "
                          f"(start, end).",
                          [f"return _addr(self, name, {what!r})"])
+    if {"userdata_names", "set_userdata_names"} & model_fields:
+        raise ValueError("the userdata names would hide an mjModel field")
+    lines += ["    @property"]
+    lines += _method("userdata_names", "self",
+                     "The names given to d.userdata's first entries (set_userdata_names), a list.",
+                     ["return _userdata_names(self)"])
+    lines += _method("set_userdata_names", "self, names",
+                     "Name d.userdata's first entries (a list or tuple of str); AssertionError, "
+                     "as mujoco-py, when there are more names than nuserdata.",
+                     ["_set_userdata_names(self, names)"])
+    lines += _method("userdata_name2id", "self, name",
+                     "The userdata index named `name`; UnknownNameError if none is.",
+                     ["return _userdata_id(self, name)"])
+    lines += _method("userdata_id2name", "self, id",
+                     "The name of userdata index `id`; UnknownIdError if it has none.",
+                     ["return _userdata_name(self, id)"])
+    return lines
+
+
+def _jac_call(obj, jac, find, which, out="None"):
+    """The expression of the flat Jacobian of `obj` `name`."""
+    if obj == "camera":
+        return f"_camera_jacobian(self, {jac}, {find}, {which!r}, {out})"
+    return f"_jacobian(self, {jac}, {find}, {which!r}, {out})"
+
+
+def _object_methods(obj, category, jac, quantities, data_fields, names):
+    lines = []
+    find = f"_id(self.model, {category!r}, name)"
+    for quantity, field, kind in quantities:
+        if field not in data_fields:
+            raise ValueError(f"mjData has no field {field}")
+        shaped = ".reshape(3, 3)" if kind == "mat" else ""
+        doc = f"d.{field} of {obj} `name`" + (" as 3x3" if kind == "mat" else "") + ", a copy."
+        names.append((obj, quantity))
+        lines += _method(f"get_{obj}_{quantity}", "self, name", doc,
+                         [f"return self.{field}[{find}]{shaped}.copy()"])
+    if not jac:
+        return lines
+    for p_or_r, what, kind in (("p", "translational", "linear"), ("r", "rotational", "angular")):
+        if obj in JACOBIANS:
+            names.append((obj, f"jac{p_or_r}"))
+            lines += _method(f"get_{obj}_jac{p_or_r}", f"self, name, jac{p_or_r}=None",
+                             f"The {what} Jacobian of {obj} `name` ({jac}), flat (3 * nv,); "
+                             f"written into `jac{p_or_r}` (float64, 3 * nv) when given.",
+                             [f"return {_jac_call(obj, jac, find, p_or_r, 'jac' + p_or_r)}"])
+        names.append((obj, f"xvel{p_or_r}"))
+        lines += _method(f"get_{obj}_xvel{p_or_r}", "self, name",
+                         f"The world-frame {kind} velocity of {obj} `name`'s frame: its "
+                         f"Jacobian @ qvel.",
+                         [f"return _velocity({_jac_call(obj, jac, find, p_or_r)}, self)"])
+    return lines
+
+
+def _batch_methods(data_fields):
+    lines = []
+    for obj, (size, views) in BATCH.items():
+        jac = DATA[obj][1]
+        attrs = {f"{obj}_{suffix}" for suffix in (*views, "jacp", "jacr", "xvelp", "xvelr")}
+        if attrs & data_fields:
+            raise ValueError(f"{sorted(attrs & data_fields)} would hide mjData fields")
+        for suffix, field in views.items():
+            lines += ["    @property"]
+            lines += _method(f"{obj}_{suffix}", "self",
+                             f"d.{field} itself (a view, not a copy), one row per {obj}.",
+                             [f"return self.{field}"])
+        for p_or_r, what in (("p", "translational"), ("r", "rotational")):
+            lines += ["    @property"]
+            lines += _method(f"{obj}_jac{p_or_r}", "self",
+                             f"The {what} Jacobians of every {obj} ({jac}): "
+                             f"({size}, 3 * nv), computed on each read.",
+                             [f"return _jacobians(self, {jac}, self.model.{size}, {p_or_r!r})"])
+            lines += ["    @property"]
+            lines += _method(f"{obj}_xvel{p_or_r}", "self",
+                             f"The world-frame velocities of every {obj}: ({size}, 3), "
+                             f"{obj}_jac{p_or_r} @ qvel.",
+                             [f"return _velocity(self.{obj}_jac{p_or_r}, self)"])
     return lines
 
 
 def _data_methods(data_fields):
     lines = []
     names = []
-    for obj, (category, objtype, jac, quantities) in DATA.items():
-        find = f"_id(self.model, {category!r}, name)"
-        for quantity, field, kind in quantities:
-            if field not in data_fields:
-                raise ValueError(f"mjData has no field {field}")
-            shaped = ".reshape(3, 3)" if kind == "mat" else ""
-            doc = f"d.{field} of {obj} `name`" + (" as 3x3" if kind == "mat" else "") + ", a copy."
-            names.append((obj, quantity))
-            lines += _method(f"get_{obj}_{quantity}", "self, name", doc,
-                             [f"return self.{field}[{find}]{shaped}.copy()"])
-        if objtype:
-            for quantity, index, what in (("xvelp", 0, "linear"), ("xvelr", 1, "angular")):
-                names.append((obj, quantity))
-                lines += _method(f"get_{obj}_{quantity}", "self, name",
-                                 f"The world-frame {what} velocity of {obj} `name`'s frame "
-                                 f"(mj_objectVelocity, {objtype}).",
-                                 [f"return _velocity(self, mj_objectVelocity, _OBJ[{objtype!r}], "
-                                  f"{find})[{index}]"])
-        if jac:
-            for quantity, which, what in (("jacp", "p", "translational"),
-                                          ("jacr", "r", "rotational")):
-                names.append((obj, quantity))
-                lines += _method(f"get_{obj}_{quantity}", "self, name",
-                                 f"The {what} Jacobian (3, nv) of {obj} `name` ({jac}).",
-                                 [f"return _jacobian(self, {jac}, {find}, {which!r})"])
+    for obj, (category, jac, quantities) in DATA.items():
+        lines += _object_methods(obj, category, jac, quantities, data_fields, names)
+    lines += _batch_methods(data_fields)
+    for name, instead in RENAMED.items():
+        lines += _method(name, "self, name",
+                         f"Not a mujoco-py getter: RuntimeError, call {instead}.",
+                         [f"raise RuntimeError("
+                          f"{f'{name} is not a mujoco-py getter: call {instead} instead'!r})"])
     for what in ("qpos", "qvel"):
         lines += _method(f"get_joint_{what}", "self, name",
                          f"d.{what} of joint `name`: a scalar for a 1-wide joint, else a copy.",
@@ -135,6 +215,15 @@ def _data_methods(data_fields):
                      ["sensor_id = _id(self.model, 'sensor', name)",
                       "return _get(self.sensordata, int(self.model.sensor_adr[sensor_id]), "
                       "int(self.model.sensor_dim[sensor_id]))"])
+    lines += _method("get_userdata", "self, name",
+                     "d.userdata at the index named `name` (SimModel.set_userdata_names).",
+                     ["return self.userdata[self.model.userdata_name2id(name)]"])
+    if "active_contacts_efc_pos" in data_fields:
+        raise ValueError("active_contacts_efc_pos would hide an mjData field")
+    lines += ["    @property"]
+    lines += _method("active_contacts_efc_pos", "self",
+                     "d.efc_pos of the constraints after the equality ones (ne:nefc), a view.",
+                     ["return self.efc_pos[self.ne:self.nefc]"])
     for obj, short in DATA_ALIASES.items():
         lines += [f"    get_{short}_{quantity} = get_{obj}_{quantity}"
                   for o, quantity in names if o == obj]
@@ -146,23 +235,21 @@ def generate(described, decls):
     cats = named.categories(described)
     model_fields = {f.name for f in described["mjModel"]}
     data_fields = {f.name for f in described["mjData"]}
-    objs = dict(decls.enums["mjtObj"].members)
-    used = sorted({spec[1] for spec in DATA.values() if spec[1]})
     lines = [outputs.HEADER_PY.rstrip("\n"),
              '"""mujoco-py\'s named getters: mixins for MjModel and MjData subclasses.',
              "",
              "Getters take a name (str); an unknown one raises UnknownNameError, a",
              "ValueError (as mujoco-py raised) and a KeyError.  Positions and",
-             "orientations are copies; xmat-like fields come as 3x3.  Velocities are",
-             "world-frame, of the object's frame (a body's at d.xpos, as mj_jacBody).",
+             "orientations are copies; xmat-like fields come as 3x3.  Jacobians are",
+             "flat (3 * nv,), as mujoco-py's; velocities are world-frame, of the",
+             "object's frame (a body's at d.xpos), Jacobian @ qvel: they follow qvel",
+             "as it is now, with the positions of the last mj_forward (or mj_step).",
              '"""',
              "",
-             "from ._functions import mj_jacBody, mj_jacGeom, mj_jacSite, mj_objectVelocity",
-             "from ._simsupport import (  # noqa: F401  (UnknownNameError: for users)",
+             "from ._functions import mj_jac, mj_jacBody, mj_jacGeom, mj_jacSite",
+             "from ._simsupport import (  # noqa: F401  (the errors: for users)",
              *textwrap.wrap(", ".join(_SUPPORT) + ")", 90, initial_indent="    ",
                             subsequent_indent="    "),
-             "",
-             f"_OBJ = {dict((k, objs[k]) for k in used)!r}",
              "",
              "",
              "class SimModelGetters:",

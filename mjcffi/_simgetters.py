@@ -3,16 +3,17 @@
 
 Getters take a name (str); an unknown one raises UnknownNameError, a
 ValueError (as mujoco-py raised) and a KeyError.  Positions and
-orientations are copies; xmat-like fields come as 3x3.  Velocities are
-world-frame, of the object's frame (a body's at d.xpos, as mj_jacBody).
+orientations are copies; xmat-like fields come as 3x3.  Jacobians are
+flat (3 * nv,), as mujoco-py's; velocities are world-frame, of the
+object's frame (a body's at d.xpos), Jacobian @ qvel: they follow qvel
+as it is now, with the positions of the last mj_forward (or mj_step).
 """
 
-from ._functions import mj_jacBody, mj_jacGeom, mj_jacSite, mj_objectVelocity
-from ._simsupport import (  # noqa: F401  (UnknownNameError: for users)
-    UnknownNameError, _addr, _all_names, _get, _id, _jacobian, _mocap_id, _name, _set,
-    _set_row, _span, _velocity)
-
-_OBJ = {'mjOBJ_CAMERA': 7, 'mjOBJ_GEOM': 5, 'mjOBJ_SITE': 6, 'mjOBJ_XBODY': 2}
+from ._functions import mj_jac, mj_jacBody, mj_jacGeom, mj_jacSite
+from ._simsupport import (  # noqa: F401  (the errors: for users)
+    UnknownIdError, UnknownNameError, _addr, _all_names, _camera_jacobian, _get, _id,
+    _jacobian, _jacobians, _mocap_id, _name, _set, _set_row, _set_userdata_names, _span,
+    _userdata_id, _userdata_name, _userdata_names, _velocity)
 
 
 class SimModelGetters:
@@ -325,6 +326,23 @@ class SimModelGetters:
         """Where joint `name` lies in qvel and qacc: an int for a 1-wide joint, else (start, end)."""
         return _addr(self, name, 'qvel')
 
+    @property
+    def userdata_names(self):
+        """The names given to d.userdata's first entries (set_userdata_names), a list."""
+        return _userdata_names(self)
+
+    def set_userdata_names(self, names):
+        """Name d.userdata's first entries (a list or tuple of str); AssertionError, as mujoco-py, when there are more names than nuserdata."""
+        _set_userdata_names(self, names)
+
+    def userdata_name2id(self, name):
+        """The userdata index named `name`; UnknownNameError if none is."""
+        return _userdata_id(self, name)
+
+    def userdata_id2name(self, id):
+        """The name of userdata index `id`; UnknownIdError if it has none."""
+        return _userdata_name(self, id)
+
 
 class SimDataGetters:
     """mujoco-py's named getters and setters, for an MjData subclass (needs self.model)."""
@@ -349,21 +367,21 @@ class SimDataGetters:
         """d.ximat of body `name` as 3x3, a copy."""
         return self.ximat[_id(self.model, 'body', name)].reshape(3, 3).copy()
 
+    def get_body_jacp(self, name, jacp=None):
+        """The translational Jacobian of body `name` (mj_jacBody), flat (3 * nv,); written into `jacp` (float64, 3 * nv) when given."""
+        return _jacobian(self, mj_jacBody, _id(self.model, 'body', name), 'p', jacp)
+
     def get_body_xvelp(self, name):
-        """The world-frame linear velocity of body `name`'s frame (mj_objectVelocity, mjOBJ_XBODY)."""
-        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_XBODY'], _id(self.model, 'body', name))[0]
+        """The world-frame linear velocity of body `name`'s frame: its Jacobian @ qvel."""
+        return _velocity(_jacobian(self, mj_jacBody, _id(self.model, 'body', name), 'p', None), self)
+
+    def get_body_jacr(self, name, jacr=None):
+        """The rotational Jacobian of body `name` (mj_jacBody), flat (3 * nv,); written into `jacr` (float64, 3 * nv) when given."""
+        return _jacobian(self, mj_jacBody, _id(self.model, 'body', name), 'r', jacr)
 
     def get_body_xvelr(self, name):
-        """The world-frame angular velocity of body `name`'s frame (mj_objectVelocity, mjOBJ_XBODY)."""
-        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_XBODY'], _id(self.model, 'body', name))[1]
-
-    def get_body_jacp(self, name):
-        """The translational Jacobian (3, nv) of body `name` (mj_jacBody)."""
-        return _jacobian(self, mj_jacBody, _id(self.model, 'body', name), 'p')
-
-    def get_body_jacr(self, name):
-        """The rotational Jacobian (3, nv) of body `name` (mj_jacBody)."""
-        return _jacobian(self, mj_jacBody, _id(self.model, 'body', name), 'r')
+        """The world-frame angular velocity of body `name`'s frame: its Jacobian @ qvel."""
+        return _velocity(_jacobian(self, mj_jacBody, _id(self.model, 'body', name), 'r', None), self)
 
     def get_geom_xpos(self, name):
         """d.geom_xpos of geom `name`, a copy."""
@@ -373,21 +391,21 @@ class SimDataGetters:
         """d.geom_xmat of geom `name` as 3x3, a copy."""
         return self.geom_xmat[_id(self.model, 'geom', name)].reshape(3, 3).copy()
 
+    def get_geom_jacp(self, name, jacp=None):
+        """The translational Jacobian of geom `name` (mj_jacGeom), flat (3 * nv,); written into `jacp` (float64, 3 * nv) when given."""
+        return _jacobian(self, mj_jacGeom, _id(self.model, 'geom', name), 'p', jacp)
+
     def get_geom_xvelp(self, name):
-        """The world-frame linear velocity of geom `name`'s frame (mj_objectVelocity, mjOBJ_GEOM)."""
-        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_GEOM'], _id(self.model, 'geom', name))[0]
+        """The world-frame linear velocity of geom `name`'s frame: its Jacobian @ qvel."""
+        return _velocity(_jacobian(self, mj_jacGeom, _id(self.model, 'geom', name), 'p', None), self)
+
+    def get_geom_jacr(self, name, jacr=None):
+        """The rotational Jacobian of geom `name` (mj_jacGeom), flat (3 * nv,); written into `jacr` (float64, 3 * nv) when given."""
+        return _jacobian(self, mj_jacGeom, _id(self.model, 'geom', name), 'r', jacr)
 
     def get_geom_xvelr(self, name):
-        """The world-frame angular velocity of geom `name`'s frame (mj_objectVelocity, mjOBJ_GEOM)."""
-        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_GEOM'], _id(self.model, 'geom', name))[1]
-
-    def get_geom_jacp(self, name):
-        """The translational Jacobian (3, nv) of geom `name` (mj_jacGeom)."""
-        return _jacobian(self, mj_jacGeom, _id(self.model, 'geom', name), 'p')
-
-    def get_geom_jacr(self, name):
-        """The rotational Jacobian (3, nv) of geom `name` (mj_jacGeom)."""
-        return _jacobian(self, mj_jacGeom, _id(self.model, 'geom', name), 'r')
+        """The world-frame angular velocity of geom `name`'s frame: its Jacobian @ qvel."""
+        return _velocity(_jacobian(self, mj_jacGeom, _id(self.model, 'geom', name), 'r', None), self)
 
     def get_site_xpos(self, name):
         """d.site_xpos of site `name`, a copy."""
@@ -397,21 +415,21 @@ class SimDataGetters:
         """d.site_xmat of site `name` as 3x3, a copy."""
         return self.site_xmat[_id(self.model, 'site', name)].reshape(3, 3).copy()
 
+    def get_site_jacp(self, name, jacp=None):
+        """The translational Jacobian of site `name` (mj_jacSite), flat (3 * nv,); written into `jacp` (float64, 3 * nv) when given."""
+        return _jacobian(self, mj_jacSite, _id(self.model, 'site', name), 'p', jacp)
+
     def get_site_xvelp(self, name):
-        """The world-frame linear velocity of site `name`'s frame (mj_objectVelocity, mjOBJ_SITE)."""
-        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_SITE'], _id(self.model, 'site', name))[0]
+        """The world-frame linear velocity of site `name`'s frame: its Jacobian @ qvel."""
+        return _velocity(_jacobian(self, mj_jacSite, _id(self.model, 'site', name), 'p', None), self)
+
+    def get_site_jacr(self, name, jacr=None):
+        """The rotational Jacobian of site `name` (mj_jacSite), flat (3 * nv,); written into `jacr` (float64, 3 * nv) when given."""
+        return _jacobian(self, mj_jacSite, _id(self.model, 'site', name), 'r', jacr)
 
     def get_site_xvelr(self, name):
-        """The world-frame angular velocity of site `name`'s frame (mj_objectVelocity, mjOBJ_SITE)."""
-        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_SITE'], _id(self.model, 'site', name))[1]
-
-    def get_site_jacp(self, name):
-        """The translational Jacobian (3, nv) of site `name` (mj_jacSite)."""
-        return _jacobian(self, mj_jacSite, _id(self.model, 'site', name), 'p')
-
-    def get_site_jacr(self, name):
-        """The rotational Jacobian (3, nv) of site `name` (mj_jacSite)."""
-        return _jacobian(self, mj_jacSite, _id(self.model, 'site', name), 'r')
+        """The world-frame angular velocity of site `name`'s frame: its Jacobian @ qvel."""
+        return _velocity(_jacobian(self, mj_jacSite, _id(self.model, 'site', name), 'r', None), self)
 
     def get_camera_xpos(self, name):
         """d.cam_xpos of camera `name`, a copy."""
@@ -422,12 +440,12 @@ class SimDataGetters:
         return self.cam_xmat[_id(self.model, 'cam', name)].reshape(3, 3).copy()
 
     def get_camera_xvelp(self, name):
-        """The world-frame linear velocity of camera `name`'s frame (mj_objectVelocity, mjOBJ_CAMERA)."""
-        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_CAMERA'], _id(self.model, 'cam', name))[0]
+        """The world-frame linear velocity of camera `name`'s frame: its Jacobian @ qvel."""
+        return _velocity(_camera_jacobian(self, mj_jac, _id(self.model, 'cam', name), 'p', None), self)
 
     def get_camera_xvelr(self, name):
-        """The world-frame angular velocity of camera `name`'s frame (mj_objectVelocity, mjOBJ_CAMERA)."""
-        return _velocity(self, mj_objectVelocity, _OBJ['mjOBJ_CAMERA'], _id(self.model, 'cam', name))[1]
+        """The world-frame angular velocity of camera `name`'s frame: its Jacobian @ qvel."""
+        return _velocity(_camera_jacobian(self, mj_jac, _id(self.model, 'cam', name), 'r', None), self)
 
     def get_light_xpos(self, name):
         """d.light_xpos of light `name`, a copy."""
@@ -444,6 +462,113 @@ class SimDataGetters:
     def get_joint_xaxis(self, name):
         """d.xaxis of joint `name`, a copy."""
         return self.xaxis[_id(self.model, 'jnt', name)].copy()
+
+    @property
+    def body_xpos(self):
+        """d.xpos itself (a view, not a copy), one row per body."""
+        return self.xpos
+
+    @property
+    def body_xquat(self):
+        """d.xquat itself (a view, not a copy), one row per body."""
+        return self.xquat
+
+    @property
+    def body_xmat(self):
+        """d.xmat itself (a view, not a copy), one row per body."""
+        return self.xmat
+
+    @property
+    def body_jacp(self):
+        """The translational Jacobians of every body (mj_jacBody): (nbody, 3 * nv), computed on each read."""
+        return _jacobians(self, mj_jacBody, self.model.nbody, 'p')
+
+    @property
+    def body_xvelp(self):
+        """The world-frame velocities of every body: (nbody, 3), body_jacp @ qvel."""
+        return _velocity(self.body_jacp, self)
+
+    @property
+    def body_jacr(self):
+        """The rotational Jacobians of every body (mj_jacBody): (nbody, 3 * nv), computed on each read."""
+        return _jacobians(self, mj_jacBody, self.model.nbody, 'r')
+
+    @property
+    def body_xvelr(self):
+        """The world-frame velocities of every body: (nbody, 3), body_jacr @ qvel."""
+        return _velocity(self.body_jacr, self)
+
+    @property
+    def geom_jacp(self):
+        """The translational Jacobians of every geom (mj_jacGeom): (ngeom, 3 * nv), computed on each read."""
+        return _jacobians(self, mj_jacGeom, self.model.ngeom, 'p')
+
+    @property
+    def geom_xvelp(self):
+        """The world-frame velocities of every geom: (ngeom, 3), geom_jacp @ qvel."""
+        return _velocity(self.geom_jacp, self)
+
+    @property
+    def geom_jacr(self):
+        """The rotational Jacobians of every geom (mj_jacGeom): (ngeom, 3 * nv), computed on each read."""
+        return _jacobians(self, mj_jacGeom, self.model.ngeom, 'r')
+
+    @property
+    def geom_xvelr(self):
+        """The world-frame velocities of every geom: (ngeom, 3), geom_jacr @ qvel."""
+        return _velocity(self.geom_jacr, self)
+
+    @property
+    def site_jacp(self):
+        """The translational Jacobians of every site (mj_jacSite): (nsite, 3 * nv), computed on each read."""
+        return _jacobians(self, mj_jacSite, self.model.nsite, 'p')
+
+    @property
+    def site_xvelp(self):
+        """The world-frame velocities of every site: (nsite, 3), site_jacp @ qvel."""
+        return _velocity(self.site_jacp, self)
+
+    @property
+    def site_jacr(self):
+        """The rotational Jacobians of every site (mj_jacSite): (nsite, 3 * nv), computed on each read."""
+        return _jacobians(self, mj_jacSite, self.model.nsite, 'r')
+
+    @property
+    def site_xvelr(self):
+        """The world-frame velocities of every site: (nsite, 3), site_jacr @ qvel."""
+        return _velocity(self.site_jacr, self)
+
+    def get_xpos(self, name):
+        """Not a mujoco-py getter: RuntimeError, call get_body_xpos."""
+        raise RuntimeError('get_xpos is not a mujoco-py getter: call get_body_xpos instead')
+
+    def get_xquat(self, name):
+        """Not a mujoco-py getter: RuntimeError, call get_body_xquat."""
+        raise RuntimeError('get_xquat is not a mujoco-py getter: call get_body_xquat instead')
+
+    def get_xmat(self, name):
+        """Not a mujoco-py getter: RuntimeError, call get_body_xmat."""
+        raise RuntimeError('get_xmat is not a mujoco-py getter: call get_body_xmat instead')
+
+    def get_xipos(self, name):
+        """Not a mujoco-py getter: RuntimeError, call get_body_xipos."""
+        raise RuntimeError('get_xipos is not a mujoco-py getter: call get_body_xipos instead')
+
+    def get_ximat(self, name):
+        """Not a mujoco-py getter: RuntimeError, call get_body_ximat."""
+        raise RuntimeError('get_ximat is not a mujoco-py getter: call get_body_ximat instead')
+
+    def get_xanchor(self, name):
+        """Not a mujoco-py getter: RuntimeError, call get_joint_xanchor."""
+        raise RuntimeError('get_xanchor is not a mujoco-py getter: call get_joint_xanchor instead')
+
+    def get_xaxis(self, name):
+        """Not a mujoco-py getter: RuntimeError, call get_joint_xaxis."""
+        raise RuntimeError('get_xaxis is not a mujoco-py getter: call get_joint_xaxis instead')
+
+    def get_sensordata(self, name):
+        """Not a mujoco-py getter: RuntimeError, call get_sensor."""
+        raise RuntimeError('get_sensordata is not a mujoco-py getter: call get_sensor instead')
 
     def get_joint_qpos(self, name):
         """d.qpos of joint `name`: a scalar for a 1-wide joint, else a copy."""
@@ -483,6 +608,15 @@ class SimDataGetters:
         """d.sensordata of sensor `name`: a scalar for a 1-dim sensor, else a copy."""
         sensor_id = _id(self.model, 'sensor', name)
         return _get(self.sensordata, int(self.model.sensor_adr[sensor_id]), int(self.model.sensor_dim[sensor_id]))
+
+    def get_userdata(self, name):
+        """d.userdata at the index named `name` (SimModel.set_userdata_names)."""
+        return self.userdata[self.model.userdata_name2id(name)]
+
+    @property
+    def active_contacts_efc_pos(self):
+        """d.efc_pos of the constraints after the equality ones (ne:nefc), a view."""
+        return self.efc_pos[self.ne:self.nefc]
 
     get_cam_xpos = get_camera_xpos
     get_cam_xmat = get_camera_xmat

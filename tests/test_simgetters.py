@@ -4,7 +4,9 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi._simgetters import SimDataGetters, SimModelGetters, UnknownNameError
+from mjcffi._simgetters import SimDataGetters, SimModelGetters, UnknownIdError, UnknownNameError
+from mjcffi.sim._model import SimData, load_model_from_mjb, load_model_from_path, \
+    load_model_from_xml
 
 from .conftest import gymnasium_assets
 
@@ -51,8 +53,16 @@ def _shifted(m, d, dt):
 
 
 def _names(m, count, category):
-    return [mjcffi.mj_id2name(m, getattr(mjcffi.mjtObj, "mjOBJ_" + category), i)
-            for i in range(count)]
+    """The names of the named elements in id order (mujoco-py leaves the others out)."""
+    names = [mjcffi.mj_id2name(m, getattr(mjcffi.mjtObj, "mjOBJ_" + category), i)
+             for i in range(count)]
+    return [name for name in names if name]
+
+
+def _named(m, obj, size):
+    """(id, name) of the named elements of `obj`."""
+    ids = ((i, getattr(m, obj + "_id2name")(i)) for i in range(size))
+    return [(i, name) for i, name in ids if name is not None]
 
 
 def test_model_getters_follow_the_categories():
@@ -73,27 +83,31 @@ def test_model_getters_follow_the_categories():
         names = getattr(m, public + "_names")
         assert isinstance(names, tuple)
         assert list(names) == _names(m, count, obj), public
-        for i, name in enumerate(names):
-            assert getattr(m, public + "_id2name")(i) == name
+        for i in range(count):
+            name = getattr(m, public + "_id2name")(i)
+            assert name == (mjcffi.mj_id2name(m, getattr(mjcffi.mjtObj, "mjOBJ_" + obj), i)
+                            or None)
             if name is not None:
                 assert getattr(m, public + "_name2id")(name) == i
-                assert mjcffi.mj_name2id(m, getattr(mjcffi.mjtObj, "mjOBJ_" + obj), name) == i
 
 
 def test_unnamed_elements_and_bad_names_and_ids():
     m = M.from_xml_string('<mujoco><worldbody><body><geom size="1"/></body>'
                           '<body name="b"><geom size="1"/></body></worldbody></mujoco>')
-    assert m.body_names == ("world", None, "b")
+    assert m.body_names == ("world", "b")          # unnamed bodies left out, as mujoco-py
+    assert m.body_id2name(1) is None and m.body_id2name(2) == "b"
     assert m.geom_id2name(0) is None
     with pytest.raises(ValueError, match="'bb'.*'b'") as info:
         m.body_name2id("bb")
     assert isinstance(info.value, KeyError) and isinstance(info.value, UnknownNameError)
     with pytest.raises(KeyError):
         m.geom_name2id("nothing")
-    with pytest.raises(IndexError):
-        m.body_id2name(3)
-    with pytest.raises(IndexError):
-        m.body_id2name(-1)
+    for bad in (3, -1):
+        with pytest.raises(IndexError):
+            m.body_id2name(bad)
+        with pytest.raises(ValueError):           # as mujoco-py
+            m.body_id2name(bad)
+    assert issubclass(UnknownIdError, ValueError)
     with pytest.raises(TypeError):
         m.body_name2id(1)
     d = D(m)
@@ -154,12 +168,9 @@ def test_positions_are_copies_of_the_rows(moving):
                               ("camera", m.ncam, {"xpos": d.cam_xpos, "xmat": d.cam_xmat}),
                               ("light", m.nlight, {"xpos": d.light_xpos, "xdir": d.light_xdir}),
                               ("joint", m.njnt, {"xanchor": d.xanchor, "xaxis": d.xaxis})]:
-        names = getattr(m, obj + "_names")
-        for i in range(size):
-            if names[i] is None:
-                continue
+        for i, name in _named(m, obj, size):
             for quantity, array in fields.items():
-                got = getattr(d, f"get_{obj}_{quantity}")(names[i])
+                got = getattr(d, f"get_{obj}_{quantity}")(name)
                 want = array[i].reshape(3, 3) if quantity.endswith("mat") else array[i]
                 np.testing.assert_array_equal(got, want)
                 got[...] = 7.5
@@ -175,16 +186,12 @@ def test_velocities_match_the_jacobians_and_finite_differences(moving):
     for obj, size, pos, mat in [("body", m.nbody, "xpos", "xmat"),
                                 ("geom", m.ngeom, "geom_xpos", "geom_xmat"),
                                 ("site", m.nsite, "site_xpos", "site_xmat")]:
-        names = getattr(m, obj + "_names")
-        for i in range(size):
-            if names[i] is None:
-                continue
-            name = names[i]
+        for i, name in _named(m, obj, size):
             velp, velr = getattr(d, f"get_{obj}_xvelp")(name), getattr(d, f"get_{obj}_xvelr")(name)
             jacp, jacr = getattr(d, f"get_{obj}_jacp")(name), getattr(d, f"get_{obj}_jacr")(name)
-            assert jacp.shape == jacr.shape == (3, m.nv)
-            np.testing.assert_allclose(jacp @ d.qvel, velp, atol=1e-9, rtol=1e-9)
-            np.testing.assert_allclose(jacr @ d.qvel, velr, atol=1e-9, rtol=1e-9)
+            assert jacp.shape == jacr.shape == (3 * m.nv,)      # flat, as mujoco-py
+            np.testing.assert_allclose(jacp.reshape(3, m.nv) @ d.qvel, velp, atol=1e-9, rtol=1e-9)
+            np.testing.assert_allclose(jacr.reshape(3, m.nv) @ d.qvel, velr, atol=1e-9, rtol=1e-9)
             # finite differences of the frame's position and orientation
             fd_p = (getattr(e, pos)[i] - getattr(d, pos)[i]) / dt
             np.testing.assert_allclose(velp, fd_p, atol=1e-4 * (1 + np.abs(velp).max()))
@@ -244,3 +251,204 @@ def test_mocap_get_and_set():
         d.set_mocap_pos("target", [1, 2])
     with pytest.raises(ValueError, match="not a mocap body"):
         d.set_mocap_quat("ball", [1, 0, 0, 0])
+
+
+def _quat_mul(a, b):
+    w1, v1, w2, v2 = a[0], a[1:], b[0], b[1:]
+    return np.concatenate([[w1 * w2 - v1 @ v2], w1 * v2 + w2 * v1 + np.cross(v1, v2)])
+
+
+def test_whole_array_attributes(moving):
+    m, d = moving
+    nv = m.nv
+    for obj, size, pos in [("body", m.nbody, "xpos"), ("geom", m.ngeom, "geom_xpos"),
+                           ("site", m.nsite, "site_xpos")]:
+        jacp, jacr = getattr(d, obj + "_jacp"), getattr(d, obj + "_jacr")
+        velp, velr = getattr(d, obj + "_xvelp"), getattr(d, obj + "_xvelr")
+        assert jacp.shape == jacr.shape == (size, 3 * nv)
+        assert velp.shape == velr.shape == (size, 3)
+        for i in range(size):
+            jp, jr = np.zeros((3, nv)), np.zeros((3, nv))
+            getattr(mjcffi, {"body": "mj_jacBody", "geom": "mj_jacGeom",
+                             "site": "mj_jacSite"}[obj])(m, d, jp, jr, i)
+            np.testing.assert_array_equal(jacp[i], jp.ravel())
+            np.testing.assert_array_equal(jacr[i], jr.ravel())
+            np.testing.assert_allclose(velp[i], jp @ d.qvel, atol=1e-12)
+            np.testing.assert_allclose(velr[i], jr @ d.qvel, atol=1e-12)
+        for i, name in _named(m, obj, size):
+            np.testing.assert_array_equal(jacp[i], getattr(d, f"get_{obj}_jacp")(name))
+            np.testing.assert_array_equal(velr[i], getattr(d, f"get_{obj}_xvelr")(name))
+    # body velocities against finite differences: xpos, and xquat's rotation
+    dt = 1e-7
+    e = _shifted(m, d, dt)
+    for i in range(m.nbody):
+        fd_p = (e.xpos[i] - d.xpos[i]) / dt
+        np.testing.assert_allclose(d.body_xvelp[i], fd_p, atol=1e-4 * (1 + np.abs(fd_p).max()))
+        q0, q1 = d.xquat[i], e.xquat[i]
+        dq = _quat_mul(q1, q0 * [1, -1, -1, -1])          # world-frame rotation q1 q0^-1
+        fd_r = 2 * np.sign(dq[0]) * dq[1:] / dt
+        np.testing.assert_allclose(d.body_xvelr[i], fd_r, atol=1e-4 * (1 + np.abs(fd_r).max()))
+
+
+def test_body_poses_are_views_of_mjdata(moving):
+    m, d = moving
+    for attr, field, width in (("body_xpos", "xpos", 3), ("body_xquat", "xquat", 4),
+                               ("body_xmat", "xmat", 9)):
+        view = getattr(d, attr)
+        assert view.shape == (m.nbody, width)
+        assert np.shares_memory(view, getattr(d, field))
+        getattr(d, field)[1] = 0.125                        # a write through d.<field> ...
+        assert np.all(getattr(d, attr)[1] == 0.125)        # ... shows in the attribute
+        view[1, 0] = 2.5                                    # and the other way round
+        assert getattr(d, field)[1, 0] == 2.5
+
+
+def test_velocities_follow_qvel_before_the_next_forward():
+    """As in mujoco-py: Jacobian (of the last positions) @ the current qvel."""
+    m, d = _moving(_humanoid())
+    d.qvel[:] = np.random.default_rng(3).normal(size=m.nv)    # no mj_forward since
+    torso = m.body_name2id("torso")
+    jac = d.get_body_jacp("torso").reshape(3, m.nv)
+    np.testing.assert_allclose(d.get_body_xvelp("torso"), jac @ d.qvel, atol=1e-12)
+    np.testing.assert_allclose(d.body_xvelp[torso], jac @ d.qvel, atol=1e-12)
+    mjcffi.mj_forward(m, d)                 # now mj_objectVelocity (cvel) agrees too
+    res = np.zeros(6)
+    mjcffi.mj_objectVelocity(m, d, mjcffi.mjtObj.mjOBJ_XBODY, torso, res, 0)
+    np.testing.assert_allclose(d.get_body_xvelp("torso"), res[3:], atol=1e-9)
+    np.testing.assert_allclose(d.get_body_xvelr("torso"), res[:3], atol=1e-9)
+
+
+def test_jacobian_into_an_array():
+    m, d = _moving(SCENE)
+    name = m.site_names[0]
+    for which in ("p", "r"):
+        getter = getattr(d, f"get_site_jac{which}")
+        out = np.full(3 * m.nv, 7.0)
+        assert getter(name, **{f"jac{which}": out}) is out
+        np.testing.assert_array_equal(out, getter(name))     # every entry written
+        bad = [np.zeros(3 * m.nv, dtype=np.int64), np.zeros(3 * m.nv, dtype=np.float32),
+               np.zeros(3 * m.nv + 1), np.zeros(3 * m.nv - 1), np.zeros((3, m.nv)),
+               np.zeros(6 * m.nv)[::2]]
+        readonly = np.zeros(3 * m.nv)
+        readonly.flags.writeable = False
+        for array in bad + [readonly]:
+            before = array.copy()
+            with pytest.raises(ValueError, match=f"jac{which}.*{3 * m.nv}"):
+                getter(name, **{f"jac{which}": array})
+            np.testing.assert_array_equal(array, before)
+        with pytest.raises(TypeError):
+            getter(name, **{f"jac{which}": [0.0] * (3 * m.nv)})
+    for obj in ("body", "geom"):
+        out = np.zeros(3 * m.nv)
+        last = _named(m, obj, getattr(m, "n" + obj))[-1][1]
+        assert getattr(d, f"get_{obj}_jacr")(last, jacr=out) is out
+        assert np.any(out != 0)
+        np.testing.assert_array_equal(out, getattr(d, f"get_{obj}_jacr")(last))
+
+
+@pytest.mark.parametrize("name, instead", [("get_xpos", "get_body_xpos"),
+                                           ("get_xquat", "get_body_xquat"),
+                                           ("get_xmat", "get_body_xmat"),
+                                           ("get_xipos", "get_body_xipos"),
+                                           ("get_ximat", "get_body_ximat"),
+                                           ("get_xanchor", "get_joint_xanchor"),
+                                           ("get_xaxis", "get_joint_xaxis"),
+                                           ("get_sensordata", "get_sensor")])
+def test_getters_mujoco_py_refused(name, instead):
+    m, d = _moving(SCENE)
+    with pytest.raises(RuntimeError, match=instead):
+        getattr(d, name)("anything")
+
+
+def test_userdata_names():
+    xml = '<mujoco><size nuserdata="{}"/><worldbody/></mujoco>'
+    m = load_model_from_xml(xml.format(2))
+    assert m.userdata_names == []
+    with pytest.raises(AssertionError, match="nuserdata=2"):
+        m.set_userdata_names(["a", "b", "c"])
+    with pytest.raises(AssertionError):
+        m.set_userdata_names("ab")                   # a str is no list of names
+    with pytest.raises(AssertionError):
+        m.set_userdata_names(["a", 1])
+    assert m.userdata_names == []
+    m.set_userdata_names(("gain", "bias"))
+    assert m.userdata_names == ["gain", "bias"]
+    assert m.userdata_name2id("bias") == 1 and m.userdata_id2name(0) == "gain"
+    d = SimData(m)
+    d.userdata[:] = [3.0, 4.0]
+    assert d.get_userdata("bias") == 4.0
+    with pytest.raises(ValueError, match="'nope'.*gain"):
+        d.get_userdata("nope")
+    with pytest.raises(ValueError):
+        m.userdata_id2name(2)
+    with pytest.raises(AssertionError):
+        load_model_from_xml(xml.format(0)).set_userdata_names(["foo"])
+
+
+def test_active_contacts_efc_pos():
+    m = load_model_from_xml('<mujoco><worldbody><geom type="plane" size="1 1 1"/>'
+                            '<body pos="0 0 .09"><freejoint/><geom size=".1"/></body>'
+                            '<body><joint name="j" limited="true" range="0 1"/><geom size=".1" '
+                            'pos="2 0 1"/></body></worldbody>'
+                            '<equality><joint joint1="j"/></equality></mujoco>')
+    d = SimData(m)
+    mjcffi.mj_forward(m, d)
+    assert d.ne >= 1 and d.nefc > d.ne
+    got = d.active_contacts_efc_pos
+    np.testing.assert_array_equal(got, d.efc_pos[d.ne:d.nefc])
+    assert np.shares_memory(got, d.efc_pos)
+
+
+@pytest.mark.parametrize("path", gymnasium_assets(), ids=lambda p: p.name)
+def test_get_xml_and_get_mjb_round_trip(path):
+    m = load_model_from_path(path)
+    xml = m.get_xml()
+    assert "<mujoco" in xml
+    again = load_model_from_xml(xml)
+    for size in ("nq", "nv", "nbody", "njnt", "ngeom", "nsite", "nu", "nsensor"):
+        assert getattr(again, size) == getattr(m, size), size
+    for field in ("body_pos", "body_quat", "body_mass", "geom_rbound", "geom_pos", "jnt_range",
+                  "actuator_gear"):
+        np.testing.assert_allclose(getattr(again, field), getattr(m, field), rtol=1e-5,
+                                   atol=1e-5)   # 6 significant digits
+    # MuJoCo writes 6 significant digits: from the second save on the text is a fixed point
+    xml2 = again.get_xml()
+    assert load_model_from_xml(xml2).get_xml() == xml2
+    mjb = m.get_mjb()
+    assert isinstance(mjb, bytes) and mjb == m.to_bytes()
+    assert load_model_from_mjb(mjb).get_mjb() == mjb
+
+
+def test_get_xml_expands_includes_and_writes_back_changes(tmp_path):
+    (tmp_path / "part.xml").write_text('<mujoco><body name="expanded" pos="0 0 1">'
+                                       '<geom size=".1"/></body></mujoco>')
+    (tmp_path / "main.xml").write_text('<mujoco><worldbody><include file="part.xml"/>'
+                                       '</worldbody></mujoco>')
+    m = load_model_from_path(tmp_path / "main.xml")
+    xml = m.get_xml()
+    assert 'name="expanded"' in xml and "<include" not in xml
+    assert load_model_from_xml(xml).get_xml() == xml
+    m.body_pos[1] = [0.25, 0.5, 0.75]                 # a change since loading is saved
+    np.testing.assert_array_equal(load_model_from_xml(m.get_xml()).body_pos[1],
+                                  [0.25, 0.5, 0.75])
+
+
+def test_get_xml_of_a_model_without_xml():
+    m = load_model_from_xml('<mujoco><worldbody><geom size="1"/></worldbody></mujoco>')
+    from_mjb = load_model_from_mjb(m.get_mjb())
+    with pytest.raises(ValueError, match="MJB"):
+        from_mjb.get_xml()
+    assert from_mjb.get_mjb() == m.get_mjb()
+
+
+def test_copies_and_pickles_keep_the_xml_and_userdata_names():
+    import copy
+    import pickle
+    m = load_model_from_xml('<mujoco><size nuserdata="1"/><worldbody><geom size="1"/>'
+                            '</worldbody></mujoco>')
+    m.set_userdata_names(["k"])
+    for other in (copy.copy(m), copy.deepcopy(m), pickle.loads(pickle.dumps(m))):
+        assert type(other) is type(m) and other is not m
+        assert other.get_xml() == m.get_xml()
+        assert other.userdata_names == ["k"]
+        assert other.get_mjb() == m.get_mjb()
