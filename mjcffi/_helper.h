@@ -24,6 +24,11 @@ int mjcffi_error_kind(void);
    left mid-step; see mjcffi/_errors.py for how to make it usable again. */
 int mjcffi_step(const mjModel* m, mjData* d, int nstep);
 
+/* mujoco-py's substeps: nstep times fn(m, d) (when fn is not NULL) then mj_step(m, d),
+   under one guard as mjcffi_step (mju_error in fn is caught too).  nstep 0: fn once,
+   no step.  0, or 1 when an error was caught or d is busy. */
+int mjcffi_step_substep(const mjModel* m, mjData* d, int nstep, mjfGeneric fn);
+
 /* Pickling an mjData (see mjcffi/data.py): its header is mjData's bytes up to `buffer`
    (mjcffi_data_header_size()); its layout (mjcffi_data_layout_size() bytes, written by
    mjcffi_save_layout) holds a tag, the signature and each arena array as an offset, -1 for

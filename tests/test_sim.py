@@ -316,3 +316,219 @@ def test_item_flatten_layout_is_mujoco_pys_value_by_value():
     assert d.qvel.tolist() == expected[9:16] and d.act.tolist() == [30, 31]
     with pytest.raises(ValueError, match="21 numbers, not 20"):
         MjSimState.from_flattened(flat[:-1], sim)
+
+
+# -- mujoco-py's udd_state rules, state equality and copies
+
+def test_udd_state_must_keep_its_form():
+    from mjcffi.sim._sim import UddStateError
+    model = load_model_from_xml(scenes.PENDULUM)
+    returned = {}
+    sim = MjSim(model, udd_callback=lambda s: returned)
+    sim.step()                                      # {} after {}: no keys, no change
+    assert sim.udd_state == {}
+    returned = {"extra": 1.0}
+    with pytest.raises(UddStateError, match="keys"):
+        sim.step()
+    returned = {"n": 10, "v": np.array([1.0, 2.0])}
+    sim.udd_callback = lambda s: returned           # a new callback: a new form
+    assert sim.udd_state["n"] == 10
+    returned = {"n": 11.5, "v": np.array([3.0, 4.0])}       # any number for a number
+    sim.step()
+    assert sim.udd_state["n"] == 11.5
+    bad = [{"n": 1}, {"n": 1, "v": np.zeros(2), "w": 1},
+           {"n": 1, "v": np.zeros(3)}, {"n": "haha", "v": np.zeros(2)},
+           {"n": 1, "v": [0.0, 0.0]}, {"n": np.zeros(1), "v": np.zeros(2)}]
+    for returned in bad:
+        with pytest.raises(UddStateError) as info:
+            sim.step()
+        assert isinstance(info.value, AssertionError) and isinstance(info.value, ValueError)
+    returned = {"other": 1.0}
+    sim.reset()                                     # reset starts the form again
+    assert sim.udd_state == {"other": 1.0}
+    sim.udd_callback = None
+    assert sim.udd_state == {}
+    with pytest.raises(TypeError, match="udd_callback must be callable"):
+        sim.udd_callback = 3
+
+
+def test_state_equality_act_and_defensive_copies():
+    sim = MjSim(load_model_from_xml(scenes.PENDULUM),
+                udd_callback=lambda s: {"a": np.array([1.0, 2.0]), "b": 3})
+    state = sim.get_state()
+    assert state.act is None and sim.model.na == 0
+    assert state == sim.get_state() and not state != sim.get_state()
+    assert state != state._replace(udd_state={"a": np.array([1.0, 2.0])})
+    assert state != state._replace(udd_state={"a": np.array([1.0, 2.5]), "b": 3})
+    assert state != state._replace(qvel=state.qvel + 1)
+    assert state != state._replace(act=np.zeros(0))
+    assert state.__eq__((1, 2)) is NotImplemented
+    with pytest.raises(TypeError):
+        hash(state)
+    sim.set_state(state)
+    state.qpos[0] = -1
+    state.udd_state["a"][0] = -1
+    assert sim.data.qpos[0] != -1 and sim.udd_state["a"][0] == 1.0
+    copy = sim.get_state()
+    copy.qpos[0] = -2
+    copy.udd_state["a"][1] = -2
+    assert sim.data.qpos[0] != -2 and sim.udd_state["a"][1] == 2.0
+    flat = sim.get_state().flatten()
+    assert flat.tolist() == [0.0, *sim.data.qpos, *sim.data.qvel, 1.0, 2.0, 3.0]
+    assert MjSimState.from_flattened(flat, sim) == sim.get_state()
+
+
+def test_set_state_needs_act_when_the_model_has_some():
+    sim = MjSim(load_model_from_xml(_FREE_AND_ACTIVATION))
+    state = sim.get_state()
+    assert state.act.shape == (2,)
+    with pytest.raises(ValueError, match="no act"):
+        sim.set_state(state._replace(act=None))
+
+
+# -- ray casting, as mujoco-py's TestRay
+
+_RAYS = """
+<mujoco>
+  <worldbody>
+    <geom name="A" type="sphere" size=".1" pos="1 0 0"/>
+    <body name="M">
+      <body name="N"><geom name="B" type="sphere" size=".1" pos="3 0 0" group="2"/></body>
+      <geom name="C" type="sphere" size=".1" pos="5 0 0"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@pytest.mark.parametrize("options, expected", [
+    ({}, "A A B B C C -"),
+    ({"exclude_body": 0}, "B B B B C C -"),
+    ({"exclude_body": 1}, "A A B B - - -"),
+    ({"exclude_body": 2}, "A A C C C C -"),
+    ({"include_static_geoms": False}, "B B B B C C -"),
+    ({"include_static_geoms": False, "exclude_body": 1}, "B B B B - - -"),
+    ({"include_static_geoms": False, "exclude_body": 2}, "C C C C C C -"),
+    ({"group_filter": [1, 1, 0, 1, 1, 1]}, "A A C C C C -"),
+    ({"group_filter": np.array([0, 0, 1, 0, 0, 0], bool)}, "B B B B - - -"),
+])
+def test_ray_exclusions_as_mujoco_py(options, expected):
+    sim = MjSim(load_model_from_xml(_RAYS))
+    sim.forward()
+    names = {-1: "-"}
+    names.update({i: sim.model.geom(i).name for i in range(sim.model.ngeom)})
+    centres = {"A": 1, "B": 3, "C": 5}
+    for x, want in enumerate(expected.split()):
+        distance, geom = sim.ray([x, 0, 0], np.array([1.0, 0, 0]), **options)
+        assert names[geom] == want, (x, options)
+        if want == "-":
+            assert distance == -1.0
+        else:    # from a sphere's centre, its surface is 0.1 ahead
+            centre = centres[want]
+            assert distance == pytest.approx(centre - 0.1 - x if x < centre else 0.1)
+        assert isinstance(distance, float) and isinstance(geom, int)
+
+
+def test_ray_geom_by_geom_agrees_with_mj_ray():
+    from mjcffi.sim._ray import _ray, _ray_each_geom
+    sim = MjSim(load_model_from_path(_humanoid_path()))
+    sim.forward()
+    rng = np.random.default_rng(5)
+    hits = 0
+    for _ in range(60):
+        pnt = rng.uniform(-1, 1, 3) + [0, 0, 1.2]
+        vec = rng.normal(size=3)
+        body = int(rng.integers(-1, sim.model.nbody))
+        groups = None if rng.random() < 0.5 else (rng.random(6) < 0.7).astype(np.uint8)
+        expected = _ray(sim.model, sim.data, pnt, vec, groups, body)
+        got = _ray_each_geom(sim.model, sim.data, pnt, vec, groups, (body,))
+        assert got[1] == expected[1]
+        assert got[0] == pytest.approx(expected[0])
+        hits += expected[1] >= 0
+    assert hits > 10
+
+
+def test_ray_bad_input_names_the_problem():
+    sim = MjSim(load_model_from_xml(_RAYS))
+    with pytest.raises(ValueError, match="pnt must be 3 numbers"):
+        sim.ray([0, 0], [1, 0, 0])
+    with pytest.raises(TypeError, match="vec must be 3 numbers"):
+        sim.ray([0, 0, 0], ["x", 0, 0])
+    with pytest.raises(ValueError, match="exclude_body must be a body id from 0 to 2"):
+        sim.ray([0, 0, 0], [1, 0, 0], exclude_body=3)
+    with pytest.raises(TypeError, match="exclude_body must be an int"):
+        sim.ray([0, 0, 0], [1, 0, 0], exclude_body=1.0)
+    with pytest.raises(ValueError, match="group_filter must hold 6"):
+        sim.ray([0, 0, 0], [1, 0, 0], group_filter=[1, 1])
+    with pytest.raises(TypeError, match="group_filter must hold booleans"):
+        sim.ray([0, 0, 0], [1, 0, 0], group_filter=[0.5] * 6)
+
+
+# -- mujoco-py's error and warning callbacks
+
+def test_error_callback_gets_bytes_and_may_raise():
+    from mjcffi.sim import _callbacks
+    got = []
+
+    def keep(message):
+        got.append(message)
+
+    try:
+        with pytest.raises(mjcffi.FatalError, match="boom"):
+            _callbacks.handle_fatal(mjcffi.FatalError("boom"))      # no callback: re-raised
+        _callbacks.set_error_callback(keep)
+        assert _callbacks.get_error_callback() is keep
+        with _callbacks.wrap_mujoco_warning():
+            mjcffi.mju_error("error")       # handled: the block goes on
+        assert got == [b"error"]
+
+        def fail(message):
+            raise RuntimeError(message.decode())
+
+        _callbacks.set_error_callback(fail)
+        with pytest.raises(RuntimeError, match="^error$"):
+            with _callbacks.wrap_mujoco_warning():
+                mjcffi.mju_error("error")
+        sim = MjSim(load_model_from_xml(scenes.PENDULUM), substep_callback="""
+            void fun(const mjModel* m, mjData* d) { mju_error("from the substep"); }""")
+        with pytest.raises(RuntimeError, match="from the substep"):
+            sim.step()
+        with pytest.raises(TypeError, match="callable or None"):
+            _callbacks.set_error_callback("print")
+    finally:
+        _callbacks.set_error_callback(None)
+    with pytest.raises(mjcffi.FatalError, match="from the substep"):
+        sim.step()
+
+
+def test_warning_callback_gets_bytes_and_its_error_comes_out():
+    from mjcffi.sim import _callbacks
+    got = []
+
+    def keep(message):
+        got.append(message)
+
+    try:
+        _callbacks.set_warning_callback(keep)
+        mjcffi.mju_warning("look out")
+        assert got == [b"look out"]
+        assert _callbacks.get_warning_callback() is keep
+
+        def fail(message):
+            raise RuntimeError(message)
+
+        _callbacks.set_warning_callback(fail)
+        with pytest.raises(RuntimeError, match="b'again'"):
+            with _callbacks.wrap_mujoco_warning():
+                mjcffi.mju_warning("again")
+    finally:
+        _callbacks.set_warning_callback(None)
+    assert _callbacks.get_warning_callback() is None
+    assert mjcffi.get_mju_user_warning() is None
+
+
+def test_add_render_context_needs_a_render_context():
+    sim = MjSim(load_model_from_xml(scenes.PENDULUM))
+    with pytest.raises(TypeError, match="must be an MjRenderContext"):
+        sim.add_render_context(object())
+    assert sim.render_contexts == [] and sim.extras == {}

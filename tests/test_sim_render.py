@@ -322,6 +322,7 @@ def test_modders_refuse_bad_names_and_values(backend):
 def bad_input_scenario():
     import threading
 
+    from mjcffi.rendering import _simchecks
     from mjcffi.sim import MjRenderContext, MjRenderContextOffscreen, MjSim, \
         load_model_from_xml
     sim = MjSim(load_model_from_xml(BOX))
@@ -333,17 +334,22 @@ def bad_input_scenario():
         "zero": _outcome(lambda: sim.render(0, H)),
         "negative": _outcome(lambda: sim.render(W, -5)),
         "float": _outcome(lambda: sim.render(16.5, H)),
-        "wide": _outcome(lambda: sim.render(offwidth + 1, H)),
-        "high": _outcome(lambda: sim.render(W, offheight + 1)),
+        "huge": _outcome(lambda: sim.render(_simchecks.MAX_BUFFER + 1, H)),
         "mode": _outcome(lambda: sim.render(W, H, mode="screen")),
         "device": _outcome(lambda: sim.render(W, H, device_id=-2)),
     }
     out["made_before_ok"] = len(sim.render_contexts)
+    # as in mujoco-py, a larger image grows the sim's buffer and the model's sizes
+    wide = sim.render(offwidth + 1, H)
+    high = sim.render(W, offheight + 1)
+    out["grown"] = [list(wide.shape), list(high.shape), sim.model.vis.global_.offwidth,
+                    sim.model.vis.global_.offheight]
     sim.render(W, H)                               # the sim's own context
     context = MjRenderContextOffscreen(sim)        # and a second one
     out.update({
         "camera_id": _outcome(lambda: context.render(W, H, camera_id=1)),
-        "read_wide": _outcome(lambda: context.read_pixels(offwidth + 1, H)),
+        "read_wide": _outcome(lambda: context.read_pixels(
+            sim.model.vis.global_.offwidth + 1, H)),
         "marker": _outcome(lambda: context.add_marker(colour=(1, 0, 0, 1))),
         "marker_shape": _outcome(lambda: context.add_marker(size=(1, 2))),
         "resize": _outcome(lambda: context.update_offscreen_size(0, 10)),
@@ -405,10 +411,11 @@ def test_bad_input_raises_naming_the_problem(backend):
     assert out["zero"] == "ValueError: width must be a positive number of pixels, not 0"
     assert out["negative"] == "ValueError: height must be a positive number of pixels, not -5"
     assert out["float"].startswith("TypeError: width must be an int")
-    for key in ("wide", "high", "read_wide"):
-        assert out[key].startswith("ValueError: an image of ") and \
-            "does not fit the offscreen buffer of 640x480" in out[key] and \
-            "update_offscreen_size" in out[key], out[key]
+    assert out["huge"].startswith("ValueError: width must be"), out["huge"]
+    assert out["grown"] == [[H, 641, 3], [481, W, 3], 641, 481]
+    assert out["read_wide"].startswith("ValueError: an image of ") and \
+        "does not fit the offscreen buffer of 641x481" in out["read_wide"] and \
+        "update_offscreen_size" in out["read_wide"], out["read_wide"]
     assert out["mode"] == "ValueError: mode must be 'offscreen' or 'window', not 'screen'"
     assert out["device"].startswith("ValueError: device_id must be -1")
     assert out["made_before_ok"] == 0                  # refused before any OpenGL work

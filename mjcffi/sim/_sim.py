@@ -1,26 +1,38 @@
-"""MjSim: a model, its data and `nsubsteps` MuJoCo steps per step()."""
+"""MjSim: a model, its data and `nsubsteps` MuJoCo steps per step(), each after an
+optional substep callback; its state, ray casting and rendering, as in mujoco-py."""
 
 import copy
-import io
 import operator
-import os
 import threading
-import xml.etree.ElementTree as ElementTree
+from numbers import Number
 
 import numpy as np
 
 from .. import _marshal
+from .. import callbacks as _cb
 from .. import warning_errors as _warnings
-from .._functions import mj_resetData
+from .._errors import FatalError
+from .._functions import mj_resetData, mj_setConst
+from .._library import lib
 from .._overrides import mj_forward, mj_step
 from ..model import MjModel
 from ..rendering import _simchecks, _simgl
 from ..rendering._simrender import MjRenderContext, MjRenderContextOffscreen
+from . import _ray, _substep
+from ._save import _is_text, _xml_with_key
+from ._callbacks import handle_fatal
 from ._model import SimData, SimModel
 from ._state import MjSimState, _split_flat
 from ._warnings import MujocoException, _local
 
 _INT_MAX = 2**31 - 1            # mj_step's nstep is a C int
+_step_substep = lib.mjcffi_step_substep
+
+
+class UddStateError(AssertionError, ValueError):
+    """udd_callback returned a udd_state of another form than before: keys added or
+    dropped, a value's shape or kind (number or array) changed.  An AssertionError, as
+    mujoco-py raised, and a ValueError, as mjcffi.sim raised before."""
 
 
 class MjSim:
@@ -28,17 +40,36 @@ class MjSim:
 
     `data` is made for the model (a SimData) unless given.  `udd_callback(sim)`,
     if given, returns a dict of user-defined state: it is called when the sim
-    is made or reset and before each step, and its keys and value shapes
-    must stay the same.  The result is `sim.udd_state`, saved and restored
-    with the state.
+    is made or reset and before each step, and its keys, and the shape of each
+    value (a number or a numpy array), must stay the same (else UddStateError).
+    The result is `sim.udd_state`, saved and restored with the state.
+
+    `substep_callback` runs before each of the `nsubsteps` mj_step calls of a
+    `step()`, as in mujoco-py: it sees the state that substep starts from, with what
+    the previous substep computed (contacts, sensors, ...).  It is one of
+    - a string of C code defining `void fun(const mjModel* m, mjData* d)`, compiled
+      here (see mjcffi/sim/_substep.py; cached per user): the substeps and the calls
+      then run in one C loop without the GIL;
+    - an int, the address of such a C function (`other_sim.substep_callback_ptr`);
+    - a Python callable `f(model, data)`, called with the GIL in the same order;
+    - a cffi function pointer of that signature;
+    - None: plain steps.
+    `substep_callback_ptr` is the C function's address (0 for a Python callable or none).
+    `userdata_names`, if given, is passed to `model.set_userdata_names` first; each
+    name becomes `#define name d->userdata[i]` for the C code.
 
     `render_callback(sim, render_context)`, if given, runs before each frame a
     render context draws (it may add markers or overlays).  `render_contexts`
     lists the sim's render contexts; `render()` uses the first offscreen one,
-    made on first use.
+    made on first use.  `extras` is a dict for the caller's own use.
+
+    A MuJoCo warning in step(), forward() or reset() raises MujocoException (see
+    ignore_mujoco_warnings); a fatal error (mjcffi.FatalError) goes to the callback of
+    `set_error_callback`, if one is set (mjcffi/sim/_callbacks.py).
     """
 
-    def __init__(self, model, data=None, nsubsteps=1, udd_callback=None, render_callback=None):
+    def __init__(self, model, data=None, nsubsteps=1, udd_callback=None, substep_callback=None,
+                 userdata_names=None, render_callback=None):
         if not isinstance(model, MjModel):
             raise TypeError(f"model must be an MjModel, not {type(model).__name__}")
         if data is None:
@@ -48,56 +79,110 @@ class MjSim:
         nsubsteps = _count(nsubsteps, "nsubsteps", 1)
         self.model, self.data, self.nsubsteps = model, data, nsubsteps
         self._pointers = _marshal.model_data(model, data)
-        self._udd_callback = udd_callback
-        self.udd_state = {}
         self.render_callback = render_callback
         self.render_contexts = []
         self._render_context_offscreen = None
         self._render_context_window = None
-        self._step_udd()
+        self.extras = {}
+        self.set_substep_callback(substep_callback, userdata_names)
+        self.udd_callback = udd_callback
 
     # -- user-defined state
 
     @property
     def udd_callback(self):
+        """The udd_callback; setting it starts udd_state again from its first result."""
         return self._udd_callback
+
+    @udd_callback.setter
+    def udd_callback(self, udd_callback):
+        if udd_callback is not None and not callable(udd_callback):
+            raise TypeError(f"udd_callback must be callable or None, not "
+                            f"{type(udd_callback).__name__}")
+        self._udd_callback = udd_callback
+        self._step_udd(fresh=True)
 
     def set_udd_callback(self, udd_callback):
         """Use another udd_callback; the udd_state starts again from its first result."""
-        self._udd_callback = udd_callback
-        self.udd_state = {}
+        self.udd_callback = udd_callback
+
+    def step_udd(self):
+        """Call the udd_callback now, as step() does first; its result becomes udd_state."""
         self._step_udd()
 
-    def _step_udd(self):
+    def _step_udd(self, fresh=False):
         if self._udd_callback is None:
+            self.udd_state = {}
             return
         new = self._udd_callback(self)
         if not isinstance(new, dict):
             raise TypeError(f"udd_callback must return a dict, not {type(new).__name__}")
-        old = self.udd_state
-        if old:
-            if set(new) != set(old):
-                raise ValueError("udd_callback changed the keys of udd_state: "
-                                 f"{sorted(old)} before, {sorted(new)} now")
-            for key, value in new.items():
-                if np.shape(value) != np.shape(old[key]):
-                    raise ValueError(f"udd_callback changed the shape of udd_state[{key!r}]: "
-                                     f"{np.shape(old[key])} before, {np.shape(value)} now")
+        if not fresh:
+            _same_form(self.udd_state, new)
         self.udd_state = new
+
+    # -- substep callback
+
+    def set_substep_callback(self, substep_callback, userdata_names=None):
+        """Use another substep callback (C code, a C function's address, a Python
+        callable or None: see the class); `userdata_names`, if not None, goes to
+        `model.set_userdata_names` first."""
+        if userdata_names is not None:
+            self.model.set_userdata_names(userdata_names)
+        names = getattr(self.model, "userdata_names", None) or []
+        self._substep_python, self.substep_callback_ptr = _substep.resolve(substep_callback, names)
+        self._substep_fn = _substep.c_pointer(self.substep_callback_ptr)
+
+    def substep_callback(self):
+        """Run the substep callback once, now (nothing when there is none)."""
+        if self._substep_python is not None:
+            self._substep_python(self.model, self.data)
+        elif self.substep_callback_ptr:
+            self._call(self._c_substeps, 0)
 
     # -- stepping
 
     def step(self, with_udd=True):
-        """Call the udd_callback (if any), then run `nsubsteps` MuJoCo steps in one C loop."""
+        """Call the udd_callback (if any), then run `nsubsteps` MuJoCo steps, each after
+        the substep callback (if any); without a Python callback, in one C loop."""
         if with_udd:
             self._step_udd()
-        self._call(mj_step, self.nsubsteps)
+        if self._substep_python is not None:
+            self._call(self._python_substeps, self.nsubsteps)
+        elif self.substep_callback_ptr:
+            self._call(self._c_substeps, self.nsubsteps)
+        else:
+            self._call(mj_step, self.nsubsteps)
+
+    def _python_substeps(self, model, data, nstep):
+        fn = self._substep_python
+        for _ in range(nstep):
+            fn(model, data)
+            mj_step(model, data)
+
+    def _c_substeps(self, model, data, nstep):
+        m, d = self._pointers
+        status = _step_substep(m, d, nstep, self._substep_fn)
+        if status or _cb._pending:
+            _marshal.check(status)
 
     def forward(self):
         """mj_forward: compute the derived quantities of the current state."""
         self._call(mj_forward)
 
+    def set_constants(self):
+        """mj_setConst: the model's constant fields for its qpos0."""
+        self._call(mj_setConst)
+
     def _call(self, function, *args):
+        """function(model, data, *args) as mujoco-py's wrap_mujoco_warning did: a
+        warning raises MujocoException, a fatal error goes to the error callback."""
+        try:
+            self._call_warned(function, *args)
+        except FatalError as error:
+            handle_fatal(error)
+
+    def _call_warned(self, function, *args):
         d = self.data
         if _warnings._enabled or getattr(_local, "ignoring", 0):
             # the process-wide switch already checks, or warnings are off here
@@ -113,9 +198,22 @@ class MjSim:
 
     def reset(self):
         """mj_resetData, and udd_state from the udd_callback again."""
-        mj_resetData(self.model, self.data)
-        self.udd_state = {}
-        self._step_udd()
+        self._call(mj_resetData)
+        self._step_udd(fresh=True)
+
+    # -- ray casting
+
+    def ray(self, pnt, vec, include_static_geoms=True, exclude_body=-1, group_filter=None):
+        """The first geom hit by the ray from `pnt` along `vec` (world frame), by mj_ray.
+
+        Geoms of the world body are skipped unless `include_static_geoms`, and those
+        of body `exclude_body` (its own geoms only, not its children's) always;
+        `group_filter`, if given, holds mjNGROUP booleans: geoms of a group whose entry
+        is false are skipped.  Returns (distance, geom id), distance in units of
+        |vec|, or (-1.0, -1) when nothing is hit.  Uses the positions of the last
+        forward() or step()."""
+        return _ray.ray(self.model, self.data, pnt, vec, include_static_geoms, exclude_body,
+                        group_filter)
 
     # -- state
 
@@ -136,7 +234,9 @@ class MjSim:
         d.time = value.time
         d.qpos[:] = value.qpos
         d.qvel[:] = value.qvel
-        if self.model.na and value.act is not None:
+        if self.model.na:
+            if value.act is None:
+                raise ValueError(f"the state has no act, and this model has na={self.model.na}")
             d.act[:] = value.act
         self.udd_state = copy.deepcopy(value.udd_state) if value.udd_state else {}
 
@@ -188,7 +288,8 @@ class MjSim:
         """An image of the current state, rendered offscreen, as mujoco-py returned it.
 
         `width` x `height` pixels (None: the model's offscreen buffer side,
-        `model.vis.global_.offwidth/offheight`, which also bounds them), seen by the
+        `model.vis.global_.offwidth/offheight`; a larger image grows the buffer and
+        those sizes, as in mujoco-py), seen by the
         camera `camera_name` (None: the render context's camera, at first a free camera
         looking at the model).  The first call makes `sim._render_context_offscreen`, an
         MjRenderContextOffscreen on EGL device `device_id` (-1: the default), and later
@@ -205,10 +306,9 @@ class MjSim:
         With `segmentation`, the image is (height, width, 2) int32 of (object type,
         object id) per pixel, (-1, -1) for the background.
 
-        ValueError for an unknown camera name, a size that is not positive or does not
-        fit the offscreen buffer (MjRenderContextOffscreen.update_offscreen_size grows
-        it), or a mode other than 'offscreen' and 'window'.  `mode='window'` draws one
-        frame in an interactive window (an MjViewer, made on first use, as mujoco-py
+        ValueError for an unknown camera name, a size that is not positive or larger
+        than an OpenGL buffer may be, or a mode other than 'offscreen' and 'window'.
+        `mode='window'` draws one frame in an interactive window (an MjViewer, made on first use, as mujoco-py
         did) and returns None.
         """
         if mode == "window":
@@ -222,13 +322,14 @@ class MjSim:
         camera_id = _simchecks.camera_name(self.model, camera_name)
         _simgl.device_id(device_id)
         width, height = _simchecks.default_size(width, height, self.model)
+        width = _simchecks.buffer_side(width, "width")    # refused before making a context
+        height = _simchecks.buffer_side(height, "height")
         with _render_lock:
             context = self._render_context_offscreen
-            if context is None:      # its buffer will be the model's: refuse before making it
-                vis = self.model.vis.global_
-                _simchecks.image_size(width, height, vis.offwidth, vis.offheight)
+            if context is None:
                 context = MjRenderContextOffscreen(self, device_id=device_id)
         with context._drawing():         # one frame: drawn and read with no other between
+            _fit_buffer(context, width, height)
             context.render(width, height, camera_id=camera_id, segmentation=segmentation)
             return context.read_pixels(width, height, depth=depth, segmentation=segmentation)
 
@@ -241,8 +342,11 @@ class MjSim:
         if any(context is render_context for context in self.render_contexts):
             return
         self.render_contexts.append(render_context)
-        if render_context.offscreen and self._render_context_offscreen is None:
-            self._render_context_offscreen = render_context
+        if render_context.offscreen:
+            if self._render_context_offscreen is None:
+                self._render_context_offscreen = render_context
+        elif self._render_context_window is None:
+            self._render_context_window = render_context
 
     def _forget_render_context(self, render_context):
         """A render context was freed or moved to another sim: drop it here."""
@@ -250,58 +354,21 @@ class MjSim:
         if self._render_context_offscreen is render_context:
             self._render_context_offscreen = next(
                 (c for c in self.render_contexts if c.offscreen), None)
+        if self._render_context_window is render_context:
+            self._render_context_window = next(
+                (c for c in self.render_contexts if not c.offscreen), None)
+
+
+def _fit_buffer(context, width, height):
+    """Grow the offscreen buffer to hold a width x height image, as mujoco-py's render did
+    (the model's offwidth/offheight grow with it)."""
+    con = context.con
+    if width > con.offWidth or height > con.offHeight:
+        vis = context.sim.model.vis.global_
+        context.update_offscreen_size(max(width, vis.offwidth), max(height, vis.offheight))
 
 
 _render_lock = threading.Lock()     # one first render context per sim, whichever thread asks
-
-
-SAVED_KEY = "saved_state"
-
-
-def _is_text(file):
-    return isinstance(file, io.TextIOBase)
-
-
-def _numbers(values):
-    return " ".join(repr(float(v)) for v in np.ravel(values))
-
-
-def _xml_with_key(model, data):
-    """The model's MJCF text with one more <key> holding the data's state."""
-    source = getattr(model, "_xml", None)
-    if source is None:
-        raise ValueError("MjSim.save needs a model loaded from XML (load_model_from_xml or "
-                         "load_model_from_path); this one has no source text")
-    root = ElementTree.fromstring(source)
-    if root.tag != "mujoco":
-        raise ValueError(f"MjSim.save writes MJCF only, not <{root.tag}>")
-    path = getattr(model, "_xml_path", None)
-    if path is not None:    # let relative asset paths still resolve from the saved copy
-        folder = os.path.dirname(path)
-        compiler = root.find("compiler")
-        if compiler is None:
-            compiler = ElementTree.Element("compiler")
-            root.insert(0, compiler)
-        for attribute in ("meshdir", "texturedir", "assetdir"):
-            if attribute in compiler.attrib and not os.path.isabs(compiler.attrib[attribute]):
-                compiler.set(attribute, os.path.join(folder, compiler.attrib[attribute]))
-        if "assetdir" not in compiler.attrib:
-            compiler.set("assetdir", folder)
-    keyframes = root.findall("keyframe")
-    keyframe = keyframes[-1] if keyframes else ElementTree.SubElement(root, "keyframe")
-    names = {k.get("name") for k in root.iter("key")}
-    name, n = SAVED_KEY, 1
-    while name in names:
-        name, n = f"{SAVED_KEY}_{n}", n + 1
-    key = ElementTree.SubElement(keyframe, "key")
-    key.set("name", name)
-    key.set("time", repr(float(data.time)))
-    key.set("qpos", _numbers(data.qpos))
-    key.set("qvel", _numbers(data.qvel))
-    if model.na:
-        key.set("act", _numbers(data.act))
-    return ElementTree.tostring(root, encoding="unicode")
-
 
 
 def _count(value, name, least):
@@ -312,3 +379,23 @@ def _count(value, name, least):
     if not least <= value <= _INT_MAX:
         raise ValueError(f"{name} must be from {least} to {_INT_MAX}, not {value}")
     return value
+
+
+def _same_form(old, new):
+    """UddStateError unless `new` has the keys of `old`, and each value the same kind
+    (a number or a numpy array) and shape, as mujoco-py asserted."""
+    if set(new) != set(old):
+        raise UddStateError("udd_callback changed the keys of udd_state: "
+                            f"{sorted(old, key=str)} before, {sorted(new, key=str)} now")
+    for key, value in new.items():
+        before = old[key]
+        if isinstance(before, Number):
+            if not isinstance(value, Number):
+                raise UddStateError(f"udd_state[{key!r}] was a number, and udd_callback "
+                                    f"now returned a {type(value).__name__}")
+        elif not isinstance(value, np.ndarray):
+            raise UddStateError(f"udd_state[{key!r}] was a numpy array, and udd_callback "
+                                f"now returned a {type(value).__name__}")
+        elif value.shape != np.shape(before):
+            raise UddStateError(f"udd_callback changed the shape of udd_state[{key!r}]: "
+                                f"{np.shape(before)} before, {value.shape} now")

@@ -9,10 +9,26 @@ class MjSimState(namedtuple("MjSimState", "time qpos qvel act udd_state")):
     """A copy of a simulation's state: time, qpos, qvel, act (None when na == 0), udd_state.
 
     `flatten()` gives one float64 vector, and `MjSimState.from_flattened(v, sim)`
-    reads it back with the sizes of `sim` (bit-exact both ways).
+    reads it back with the sizes of `sim` (bit-exact both ways).  `==` compares the
+    parts by value, as mujoco-py did (a namedtuple of arrays could not).
     """
 
     __slots__ = ()
+
+    def __eq__(self, other):
+        """Equal parts: time, qpos, qvel and act by value (act None only equals None), and
+        the same udd_state keys with equal values (numbers or arrays)."""
+        if not isinstance(other, MjSimState):
+            return NotImplemented
+        return (self.time == other.time and np.array_equal(self.qpos, other.qpos)
+                and np.array_equal(self.qvel, other.qvel) and _same_act(self.act, other.act)
+                and _same_udd(self.udd_state or {}, other.udd_state or {}))
+
+    def __ne__(self, other):
+        equal = self.__eq__(other)
+        return equal if equal is NotImplemented else not equal
+
+    __hash__ = None  # type: ignore[assignment]  # it holds arrays
 
     def flatten(self):
         """time, qpos, qvel, act, then the udd_state values in key order, as one vector."""
@@ -32,6 +48,18 @@ class MjSimState(namedtuple("MjSimState", "time qpos qvel act udd_state")):
                           None if act is None else act.copy(),
                           {k: (v.copy() if isinstance(v, np.ndarray) else v)
                            for k, v in udd_state.items()})
+
+
+def _same_act(a, b):
+    if a is None or b is None:
+        return a is None and b is None
+    return np.array_equal(a, b)
+
+
+def _same_udd(a, b):
+    if set(a) != set(b):
+        return False
+    return all(np.array_equal(a[key], b[key]) for key in a)
 
 
 def _split_flat(array, sim):
