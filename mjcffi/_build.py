@@ -30,14 +30,16 @@ def make_builder():
     builder.cdef((HERE / "_guards.h").read_text())
     builder.cdef((HERE / "_rollout.h").read_text())
     builder.cdef((HERE / "_batchfuncs.h").read_text())
+    builder.cdef((HERE / "_pid.h").read_text())
     builder.cdef((HERE / "_callbacks.h").read_text())   # extern "Python": cdef only, not C
     builder.set_source(
         "mjcffi._mjcffi",
         '#include <mujoco/mujoco.h>\n#include <mujoco/mjbatch.h>\n'
         '#include "_helper.h"\n#include "_guards.h"\n#include "_rollout.h"\n'
-        '#include "_batchfuncs.h"\n',
+        '#include "_batchfuncs.h"\n#include "_pid.h"\n',
         sources=["mjcffi/_helper.c", "mjcffi/_guards.c", "mjcffi/_rollout.c",
-                 "mjcffi/_batchfuncs.c"],
+                 "mjcffi/_batchfuncs.c",
+                 "mjcffi/_pid.c"],
         include_dirs=[str(package / "include"), str(HERE)],
         define_macros=[("MJ_STATIC", None)],   # blank MJAPI, as codegen did
         library_dirs=[str(package)],
