@@ -13,7 +13,7 @@ import sys
 
 from mjcffi._machine import environment
 
-from . import notes
+from . import _mujoco_py_report, notes
 from .runner import official_files, run_file
 
 CONFORMANCE = pathlib.Path(__file__).resolve().parent.parent / "CONFORMANCE.md"
@@ -61,7 +61,8 @@ def main(argv=None):
                     print(f"{result.name}::{test}: {outcome.outcome}: {outcome.message}")
     text = render(ours, theirs)
     if args.write:
-        CONFORMANCE.write_text(text)
+        # The mujoco-py section is written by `python -m conformance mujoco_py --write`.
+        CONFORMANCE.write_text(_mujoco_py_report.keep_section(CONFORMANCE, text))
         print(f"wrote {CONFORMANCE}", file=sys.stderr)
     elif not args.failures:
         print(text)
