@@ -525,8 +525,9 @@ def test_modders_need_no_opengl_without_render_contexts():
     textures = TextureModder(sim, random_state=3)
     bitmap = textures.set_checker("box", (255, 0, 0), (0, 0, 255))
     assert bitmap.shape == (32, 32, 3)
-    assert bitmap[0, 0].tolist() == [255, 0, 0] and bitmap[0, 1].tolist() == [0, 0, 255]
-    assert bitmap[1, 0].tolist() == [0, 0, 255]
+    # mujoco-py's phase: the second colour at the first pixel
+    assert bitmap[0, 0].tolist() == [0, 0, 255] and bitmap[0, 1].tolist() == [255, 0, 0]
+    assert bitmap[1, 0].tolist() == [255, 0, 0]
     gradient = textures.set_gradient("box", (0, 0, 0), (255, 255, 255), vertical=True)
     assert gradient[0, 5].tolist() == [0, 0, 0] and gradient[-1, 5].tolist() == [255] * 3
     assert np.all(np.diff(gradient[:, 0, 0].astype(int)) >= 0)
