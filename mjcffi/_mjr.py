@@ -210,7 +210,9 @@ _NAME_ARRAYS = ("auxFBO", "auxFBO_r", "auxColor", "auxColor_r", "texture")
 _SKIN_ARRAYS = ("skinvertVBO", "skinnormalVBO", "skintexcoordVBO", "skinfaceVBO")
 
 
-_release_lock = threading.Lock()
+# re-entrant: a garbage collection inside a `with` block (an allocation in make_context)
+# may run an old GLContext.__del__, whose forget_context takes the lock again
+_release_lock = threading.RLock()
 _made_in: dict = {}      # OpenGL context handle -> the Records made in it (weak)
 
 

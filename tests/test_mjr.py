@@ -840,3 +840,22 @@ def test_a_wrong_scalar_is_named_before_the_context_is_blamed():
         F.mjr_rectangle(rect, 1, 1, 1, None)
     with pytest.raises(ValueError, match="con was not made"):       # all arguments right
         F.mjr_addAux(0, 8, 8, 0, con)
+
+
+def test_forget_context_may_run_while_the_release_lock_is_held():
+    # a garbage collection inside make_context's locked block can run an old
+    # GLContext.__del__, whose forget_context takes the lock again: no deadlock
+    import threading
+
+    from mjcffi import _mjr
+    done = []
+
+    def run():
+        with _mjr._release_lock:
+            _mjr.forget_context(0x12345)
+        done.append(True)
+
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    thread.join(10)
+    assert done == [True]
