@@ -27,8 +27,13 @@ caller's loop), live in mjcffi/viewer/_simviewer.py and are imported from there
 on first use, so that importing this module needs no glfw.
 """
 
+import importlib
+
+from .. import __version__
 from ..rendering._simmodder import MaterialModder, TextureModder
 from ..rendering._simrender import MjRenderContext, MjRenderContextOffscreen
+from . import const, functions
+from ._callbacks import set_error_callback, set_warning_callback, wrap_mujoco_warning
 from ._model import SimData, SimModel, load_model_from_mjb, load_model_from_path, \
     load_model_from_xml
 from ._pool import MjSimPool
@@ -39,15 +44,38 @@ from ._warnings import MujocoException, ignore_mujoco_warnings
 __all__ = ["SimModel", "SimData", "MjSim", "MjSimState", "MjSimPool", "MujocoException",
            "ignore_mujoco_warnings", "load_model_from_path", "load_model_from_xml",
            "load_model_from_mjb", "MjRenderContext", "MjRenderContextOffscreen",
-           "TextureModder", "MaterialModder"]
+           "MjRenderContextWindow", "MjRenderPool", "MjViewer", "MjViewerBasic",
+           "GlfwContext", "TextureModder", "MaterialModder", "const", "functions",
+           "set_error_callback", "set_warning_callback", "wrap_mujoco_warning",
+           "__version__", "get_version"]
 
 
-_VIEWERS = ("MjViewer", "MjViewerBasic")
+def get_version():
+    """mjcffi's version (mujoco-py's get_version gave its own)."""
+    return __version__
+
+
+# imported when first asked for: the viewers need glfw, the render pool multiprocessing;
+# MjRenderContextWindow and GlfwContext are cymj's (which imports them on use too)
+_LAZY = {"MjViewer": ("..viewer._simviewer", "MjViewer"),
+         "MjViewerBasic": ("..viewer._simviewer", "MjViewerBasic"),
+         "MjRenderPool": ("..rendering._simrenderpool", "MjRenderPool"),
+         # mujoco-py's builder.build_callback_fn: C code to a substep_callback address
+         "build_callback_fn": ("._substep", "build_callback_fn")}
+_FROM_CYMJ = ("MjRenderContextWindow", "GlfwContext")
+_SUBMODULES = ("cymj", "modder")     # mujoco-py's, reachable as attributes
 
 
 def __getattr__(name):
-    """MjViewer and MjViewerBasic, imported when first asked for (they need glfw)."""
-    if name in _VIEWERS:
-        from ..viewer import _simviewer
-        return getattr(_simviewer, name)
+    if name in _LAZY:
+        module, attribute = _LAZY[name]
+        return getattr(importlib.import_module(module, __name__), attribute)
+    if name in _FROM_CYMJ:
+        return getattr(importlib.import_module(".cymj", __name__), name)
+    if name in _SUBMODULES:
+        return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY) | set(_FROM_CYMJ) | set(_SUBMODULES))
