@@ -80,9 +80,18 @@ _IMAGES = (
     "display).")
 
 
+_RENDER_POOL = (
+    "`test_render_pool.py::test_multiprocessing` passes without testing the pool: it means to "
+    "run the file's `mp_test_*` functions in a subprocess, but passes a list to "
+    "`subprocess.check_call` with `shell=True`, so only a bare `python` runs. Those functions "
+    "pass when the file is run as a script (`python test_render_pool.py` beside the mapped "
+    "`mujoco_py`), and `tests/test_render_pool.py` checks the pool's images against single "
+    "renders bit for bit.")
+
+
 def render(results):
     """The section's Markdown text for {file: FileResult}."""
-    lines = [TITLE, "", _INTRO, "", _IMAGES, ""]
+    lines = [TITLE, "", _INTRO, "", _IMAGES, "", _RENDER_POOL, ""]
     lines += environment(("mjcffi", "mujoco-core", "numpy", "pytest", "pillow", "imagehash"))
     lines += ["", "| file | tests | passed | failed | skipped | not applicable | pass rate |",
               "|---|---:|---:|---:|---:|---:|---:|"]
