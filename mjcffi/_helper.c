@@ -115,22 +115,7 @@ const char* mjcffi_take_error(void) {
 
 // One guard around the whole loop: the per-step cost is mj_step's alone.
 int mjcffi_step(const mjModel* m, mjData* d, int nstep) {
-  mjcffi_guard guard;
-  if (mjcffi_data_enter(d, 1, "mj_step")) {
-    return 1;
-  }
-  mjcffi_guard_enter(&guard);
-  if (setjmp(guard.env)) {
-    mjcffi_guard_leave(&guard, 1);
-    mjcffi_data_leave(d);
-    return 1;
-  }
-  for (int i = 0; i < nstep; i++) {
-    mj_step(m, d);
-  }
-  mjcffi_guard_leave(&guard, 0);
-  mjcffi_data_leave(d);
-  return 0;
+  return mjcffi_step_substep(m, d, nstep, NULL);
 }
 
 // mujoco-py's substep order: the callback runs before each mj_step, so it sees the
