@@ -1,0 +1,62 @@
+"""One control period from each sampled state under a setting, on the C rollout pool."""
+
+import copy
+
+import numpy as np
+
+from .. import rollout as _rollout
+from ..data import MjData
+from .states import FULLPHYSICS
+
+# rollouts record every step: keep one call's output under this many float64s
+_MAX_OUTPUT = 1 << 22
+
+
+def setting_model(m, setting, base_disable=None):
+    """A copy of `m` with `setting` applied."""
+    mm = copy.copy(m)
+    setting.apply(mm, base_disable)
+    return mm
+
+
+def steps_per_period(period, timestep):
+    """Steps of `timestep` in a control period (a whole number, else ValueError)."""
+    k = round(period / timestep)
+    if k < 1 or abs(k * timestep - period) > 1e-9 * period:
+        raise ValueError(f"the control period {period:g} s is not a whole number of "
+                         f"timesteps of {timestep:g} s")
+    return k
+
+
+def end_states(pool, m, samples, nstep, nthread):
+    """(n x nstate) states one period (`nstep` steps of model `m`) after each sample, and a
+    mask of those that ran it through: finite, with time advanced by the whole period."""
+    n = len(samples)
+    nstate = samples.states.shape[1]
+    out = np.empty((n, nstate))
+    datas = [MjData(m) for _ in range(max(1, nthread))]
+    chunk = max(1, _MAX_OUTPUT // (nstep * nstate))
+    for a in range(0, n, chunk):
+        b = min(n, a + chunk)
+        control = np.repeat(samples.next_controls[a:b, None, :], nstep, axis=1)
+        state, _ = pool.rollout(m, datas, samples.states[a:b], control, nstep=nstep,
+                                initial_warmstart=samples.warmstarts[a:b])
+        out[a:b] = state[:, -1]
+    period = nstep * m.opt.timestep
+    advanced = np.abs(out[:, 0] - samples.states[:, 0] - period) <= 1e-6 * period + 1e-12
+    ok = advanced & np.all(np.isfinite(out), axis=1)
+    return out, ok
+
+
+def qpos_of(m, states):
+    """The qpos columns of (n x nstate) mjSTATE_FULLPHYSICS states (time comes first)."""
+    return states[:, 1:1 + m.nq]
+
+
+def new_pool(nthread):
+    """A rollout pool of `nthread` threads (the C pool; the GIL is released)."""
+    return _rollout.Rollout(nthread=nthread)
+
+
+__all__ = ["FULLPHYSICS", "end_states", "new_pool", "qpos_of", "setting_model",
+           "steps_per_period"]
