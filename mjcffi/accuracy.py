@@ -10,7 +10,9 @@ the contact scenes also the solver's iterations and tolerance; and, where the sc
 need them, it times the pipeline stages (contact, constraint) switched off against on.
 
 Every setting is compared with a reference run: RK4 at a timestep 100 times smaller than the
-scene's own (and, for the contact scenes, a converged solver), at a fixed horizon.
+scene's own (and, for the contact scenes, Newton converged to 1e-12), at a fixed horizon.  The
+setting, the reference, the error measure and the timing loop are mjcffi.evaluation's, the
+core shared with mjcffi.tune (which measures local error per control period instead).
 
 Writes ACCURACY.md (a table per scene, the cheapest setting within the error budget) and
 accuracy.png (error against steps/s, Pareto front marked; needs matplotlib, the `plot` extra)
@@ -18,11 +20,9 @@ into --out (default: benchmarks/ beside this package, else the current directory
 """
 
 import argparse
-import copy
 import dataclasses
 import math
 import os
-import statistics
 import sys
 import time
 
@@ -31,13 +31,16 @@ import numpy as np
 import mjcffi as mujoco
 from mjcffi import scenes
 from mjcffi._machine import environment
+from mjcffi.evaluation import REF_FACTOR, Setting, position_error, reference_setting
+from mjcffi.evaluation import steps_per_second as _steps_per_second
+from mjcffi.evaluation.periods import setting_model
+from mjcffi.evaluation.settings import INTEGRATOR_NAMES, flag_names
+from mjcffi.evaluation.states import DIVERGED, reset
 
 INT = mujoco.mjtIntegrator
 DSBL = mujoco.mjtDisableBit
-INTEGRATORS = {"Euler": INT.mjINT_EULER, "implicit": INT.mjINT_IMPLICIT,
-               "implicitfast": INT.mjINT_IMPLICITFAST, "RK4": INT.mjINT_RK4}
-INTEGRATOR_NAMES = {int(v): k for k, v in INTEGRATORS.items()}
-REF_FACTOR = 100          # the reference timestep is the scene's own divided by this
+# the integrators swept, in the order they are tried
+INTEGRATORS = (INT.mjINT_EULER, INT.mjINT_IMPLICIT, INT.mjINT_IMPLICITFAST, INT.mjINT_RK4)
 DEFAULT_BUDGET = 1e-2     # position error: 1 cm or 10 mrad
 
 
@@ -106,49 +109,13 @@ def all_scenes():
     return out
 
 
-# ---------------------------------------------------------------- settings
-
-@dataclasses.dataclass(frozen=True)
-class Setting:
-    integrator: int
-    timestep: float
-    iterations: int = None          # None: the scene's own
-    tolerance: float = None
-    disable: int = 0                # extra disable bits
-    enable_stages: int = 0          # disable bits cleared (stages switched back on)
-
-    def label(self, scene_dt):
-        parts = [INTEGRATOR_NAMES[int(self.integrator)], f"dt={self.timestep:g}"]
-        if self.iterations is not None:
-            parts.append(f"iter={self.iterations}")
-        if self.tolerance is not None:
-            parts.append(f"tol={self.tolerance:g}")
-        if self.enable_stages:
-            parts.append("+" + "+".join(flag_names(self.enable_stages)))
-        if self.disable:
-            parts.append("-" + "-".join(flag_names(self.disable)))
-        return " ".join(parts)
-
-    def apply(self, m, base_disable):
-        m.opt.integrator = int(self.integrator)
-        m.opt.timestep = self.timestep
-        if self.iterations is not None:
-            m.opt.iterations = self.iterations
-        if self.tolerance is not None:
-            m.opt.tolerance = self.tolerance
-        m.opt.disableflags = (base_disable | self.disable) & ~self.enable_stages
-
-
-def flag_names(bits):
-    return [f.name[len("mjDSBL_"):].lower() for f in DSBL
-            if f.name != "mjNDISABLE" and bits & f]
-
+# ---------------------------------------------------------------- sweep
 
 def sweep(scene, m, quick=False):
     """The settings to try on `scene` (m: its model as loaded)."""
     dt0 = m.opt.timestep
     factors = (2, 1, 0.5) if quick else (8, 4, 2, 1, 0.5, 0.25)
-    integrators = list(INTEGRATORS.values())
+    integrators = list(INTEGRATORS)
     if quick:
         integrators = [INT.mjINT_EULER, INT.mjINT_RK4]
     out = [Setting(i, dt0 * f) for i in integrators for f in factors]
@@ -169,11 +136,10 @@ def sweep(scene, m, quick=False):
     return unique
 
 
-def reference_setting(scene, m):
-    if scene.contact:
-        return Setting(INT.mjINT_RK4, m.opt.timestep / REF_FACTOR,
-                       iterations=max(m.opt.iterations, 100), tolerance=1e-12)
-    return Setting(INT.mjINT_RK4, m.opt.timestep / REF_FACTOR)
+def scene_reference(scene, m):
+    """The reference setting for `scene`: the shared core's, with the solver run to a tight
+    tolerance where the scene has contacts (elsewhere there is no constraint to solve)."""
+    return reference_setting(m, tight_solver=scene.contact)
 
 
 # ------------------------------------------------------------------- runs
@@ -188,16 +154,8 @@ class Trajectory:
     unstable: bool = False
 
 
-# MuJoCo's divergence warnings; after one it resets the data (unless mjDSBL_AUTORESET) and goes on
-BAD = [int(mujoco.mjtWarning.mjWARN_BADQPOS), int(mujoco.mjtWarning.mjWARN_BADQVEL),
-       int(mujoco.mjtWarning.mjWARN_BADQACC)]
-
-
-def reset(m, d):
-    if m.nkey:
-        mujoco.mj_resetDataKeyframe(m, d, 0)
-    else:
-        mujoco.mj_resetData(m, d)
+# MuJoCo's divergence warnings (after one it resets the data and goes on), as an index array
+_DIVERGED = list(DIVERGED)
 
 
 def nsteps(scene, setting):
@@ -212,9 +170,7 @@ def free_bodies(m):
 
 def simulate(scene, base_model, setting, samples=200):
     """One instrumented run to the horizon (energy, contacts sampled along the way)."""
-    m = copy.copy(base_model)
-    base_disable = base_model.opt.disableflags | scene.unneeded
-    setting.apply(m, base_disable)
+    m = setting_model(base_model, setting, base_model.opt.disableflags | scene.unneeded)
     if scene.conservative:
         m.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
     d = mujoco.MjData(m)
@@ -241,7 +197,7 @@ def simulate(scene, base_model, setting, samples=200):
         k = min(chunk, n - done)
         mujoco.mj_step(m, d, nstep=k)
         done += k
-        if d.warning.number[BAD].any() or not np.all(np.isfinite(d.qpos)):
+        if d.warning.number[_DIVERGED].any() or not np.all(np.isfinite(d.qpos)):
             traj.unstable = True
             break
         if scene.conservative:
@@ -260,59 +216,11 @@ def simulate(scene, base_model, setting, samples=200):
     return traj
 
 
-def quat_angle(q1, q2):
-    """Rotation angle between two orientation quaternions, radians, in [0, pi].
-
-    The angle of the relative rotation conj(q1)*q2 = (w, v) is 2*atan2(|v|, |w|).
-    acos of the cosine w alone would lose every angle below about 1e-8 rad
-    (cos(1e-8) rounds to 1), reporting an exact 0; |v| keeps them.
-    """
-    a = np.asarray(q1, dtype=np.float64)
-    b = np.asarray(q2, dtype=np.float64)
-    a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
-    w = float(a[0] * b[0] + a[1:] @ b[1:])
-    v = a[0] * b[1:] - b[0] * a[1:] - np.cross(a[1:], b[1:])
-    return 2.0 * math.atan2(float(np.linalg.norm(v)), abs(w))
-
-
-def position_error(m, qpos, ref):
-    """Euclidean norm of per-joint errors: a hinge or slide its |dq| (rad or m), a ball joint its
-    rotation angle, a free joint the distance between positions plus the rotation angle."""
-    errs = []
-    for j in range(m.njnt):
-        a = int(m.jnt_qposadr[j])
-        t = m.jnt_type[j]
-        if t == mujoco.mjtJoint.mjJNT_FREE:
-            errs.append(float(np.linalg.norm(qpos[a:a + 3] - ref[a:a + 3]))
-                        + quat_angle(qpos[a + 3:a + 7], ref[a + 3:a + 7]))
-        elif t == mujoco.mjtJoint.mjJNT_BALL:
-            errs.append(quat_angle(qpos[a:a + 4], ref[a:a + 4]))
-        else:
-            errs.append(abs(float(qpos[a] - ref[a])))
-    return float(np.linalg.norm(errs)) if errs else 0.0
-
-
 def steps_per_second(scene, base_model, setting, repeats=3, min_time=0.05):
-    """Median steps/s of runs from the initial state, mj_step(m, d, nstep=N) looping in C.
-
-    N covers the horizon (or the first 0.25 s of it if the horizon is long in steps, capped so
-    a sample takes ~min_time); each sample repeats the run until it has taken min_time."""
-    m = copy.copy(base_model)
-    setting.apply(m, base_model.opt.disableflags | scene.unneeded)
-    d = mujoco.MjData(m)
-    n = nsteps(scene, setting)
-    rates = []
-    for _ in range(repeats):
-        steps = 0
-        elapsed = 0.0
-        while elapsed < min_time:
-            reset(m, d)
-            t = time.perf_counter()
-            mujoco.mj_step(m, d, nstep=n)
-            elapsed += time.perf_counter() - t
-            steps += n
-        rates.append(steps / elapsed)
-    return statistics.median(rates)
+    """Steps/s of `setting` on `scene`: the shared core's timing of mj_step(m, d, nstep=N) from
+    the initial state, N covering the horizon."""
+    m = setting_model(base_model, setting, base_model.opt.disableflags | scene.unneeded)
+    return _steps_per_second(m, reset, nsteps(scene, setting), repeats, min_time)
 
 
 # ------------------------------------------------------------------ report
@@ -359,18 +267,17 @@ def cheapest_within(rows, budget):
 
 def run_scene(scene, quick=False, log=print):
     m = scene.model()
-    dt0 = m.opt.timestep
-    ref_setting = reference_setting(scene, m)
+    ref_setting = scene_reference(scene, m)
     t0 = time.perf_counter()
     ref = simulate(scene, m, ref_setting)
-    log(f"  reference {ref_setting.label(dt0)}: {time.perf_counter() - t0:.1f} s")
+    log(f"  reference {ref_setting.label()}: {time.perf_counter() - t0:.1f} s")
     rows = []
     for s in sweep(scene, m, quick):
         traj = simulate(scene, m, s)
         # a diverged run is not timed: its speed means nothing, and MuJoCo would warn each time
         rate = math.nan if traj.unstable else steps_per_second(
             scene, m, s, repeats=2 if quick else 5, min_time=0.02 if quick else 0.1)
-        rows.append(Row(s, s.label(dt0), rate, errors_against(m, traj, ref),
+        rows.append(Row(s, s.label(), rate, errors_against(m, traj, ref),
                         traj.energy_drift, traj.penetration, traj.drift, traj.unstable,
                         traj.qpos))
     pareto(rows)
@@ -400,7 +307,7 @@ def stage_lines(scene, rows, dt0):
     for r in rows:
         if not r.setting.enable_stages:
             continue
-        off = by.get(dataclasses.replace(r.setting, enable_stages=0))
+        off = by.get(r.setting.replace(enable_stages=0))
         if off is None or off.unstable or r.unstable:
             continue
         same = ("yes, bit for bit" if np.array_equal(off.qpos, r.qpos)
@@ -425,7 +332,7 @@ def scene_section(scene, m, ref_setting, rows, budget):
              f"nq={m.nq}, nv={m.nv}; own timestep {dt0:g} s, own integrator "
              f"{INTEGRATOR_NAMES[int(m.opt.integrator)]}; horizon {scene.horizon:g} s — "
              f"{scene.why}.", "",
-             f"Reference: {ref_setting.label(dt0)}.", ""]
+             f"Reference: {ref_setting.label()}.", ""]
     cols = ["setting", "steps/s", "× real time", "pos err"]
     if scene.conservative:
         cols.append("energy drift (J)")
@@ -568,10 +475,17 @@ def write_report(results, budget, out, elapsed, quick=False):
     lines += environment(("mjcffi", "mujoco-core", "numpy", "gymnasium"))
     lines += ["",
               "How to read it:", "",
+              "- The reference, the error measure and the timing loop come from "
+              "`mjcffi.evaluation`, the core this report shares with `mjcffi.tune` "
+              "(`python -m mjcffi.tune MODEL --budget ...` searches one model's options for "
+              "the cheapest within a local-error budget per control period; this report "
+              "shows fixed-horizon error on its own scenes).",
               f"- **Reference**: each scene is run with RK4 at its own timestep / {REF_FACTOR} "
-              "(contact scenes: 100+ solver iterations, tolerance 1e-12) to a fixed horizon; "
-              "every setting is compared with it at that horizon.",
-              "- **pos err**: Euclidean norm of per-joint errors at the horizon; a hinge "
+              "to a fixed horizon (contact scenes: Newton, 100+ iterations, tolerance 1e-12 — "
+              "the constraint problem is convex with one solution, so this is the physics "
+              "any solver converges to); every setting is compared with it at that horizon.",
+              "- **pos err** (`position_error`): Euclidean norm of per-joint errors at the "
+              "horizon; a hinge "
               "contributes |Δq| (rad), a free joint the distance between positions (m) plus "
               "the rotation angle between orientations (rad).",
               "- **energy drift**: largest |E(t) − E(0)| along the run (J, mjENBL_ENERGY), for "
@@ -579,7 +493,8 @@ def write_report(results, budget, out, elapsed, quick=False):
               "- **penetration**: the most negative contact distance seen at any step (m); "
               "**horiz. drift**: the largest horizontal distance a free body ends from where it "
               "started (m).",
-              "- **steps/s**: median of a few runs of `mj_step(m, d, nstep=N)` (the loop in C) "
+              "- **steps/s** (`steps_per_second`): median of a few runs of "
+              "`mj_step(m, d, nstep=N)` (the loop in C) "
               "over the horizon from the initial state. The machine is shared and noisy: take "
               "differences under ~10 % as noise.",
               "- **× real time**: steps/s × timestep, simulated seconds per wall-clock "

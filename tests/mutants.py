@@ -172,9 +172,10 @@ MUTANTS = [
          "int((rowadr.astype(np.int64) + rownnz).max()) > nnz + 1):"),
         ["tests/test_mutation_gaps.py"]),
     _mutant(
-        "quat_angle_acos", "the accuracy report's rotation angle back to 2*acos(min(1, c))",
-        ("mjcffi/accuracy.py", "return 2.0 * math.atan2(float(np.linalg.norm(v)), abs(w))",
-         "return 2.0 * math.acos(min(1.0, abs(w)))"),
+        "quat_angle_acos", "the shared rotation angle back to 2*acos(min(1, c))",
+        ("mjcffi/evaluation/measures.py",
+         "return 2.0 * np.arctan2(np.linalg.norm(v, axis=1), np.abs(w))",
+         "return 2.0 * np.arccos(np.minimum(1.0, np.abs(w)))"),
         ["tests/test_accuracy.py"]),
 
     # -- in the generator: regenerated in the copy

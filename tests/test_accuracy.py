@@ -6,7 +6,9 @@ import re
 import numpy as np
 import pytest
 
-from mjcffi import accuracy
+import mjcffi
+from mjcffi import accuracy, evaluation
+from mjcffi.evaluation import quat_angle, settings, states
 
 
 @pytest.fixture(scope="module")
@@ -57,11 +59,42 @@ def test_rk4_error_shrinks_with_the_timestep(quick_rows):
 
 def test_reference_against_itself_is_exact(pendulum):
     m = pendulum.model()
-    ref_setting = accuracy.reference_setting(pendulum, m)
+    ref_setting = accuracy.scene_reference(pendulum, m)
     a = accuracy.simulate(pendulum, m, ref_setting)
     b = accuracy.simulate(pendulum, m, ref_setting)
     assert accuracy.errors_against(m, a, b) == 0.0
     assert not a.unstable
+
+
+def test_the_report_uses_the_shared_evaluation_core():
+    # one copy of the setting, error measure, reference and timing: tune's
+    assert accuracy.Setting is evaluation.Setting
+    assert accuracy.position_error is evaluation.position_error
+    assert accuracy.reference_setting is evaluation.reference_setting
+    assert accuracy.REF_FACTOR is evaluation.REF_FACTOR
+    assert accuracy._steps_per_second is evaluation.steps_per_second
+    assert accuracy.INTEGRATOR_NAMES is settings.INTEGRATOR_NAMES
+    assert accuracy.flag_names is settings.flag_names
+    assert accuracy.DIVERGED is states.DIVERGED
+    # and no second copy left behind under the old names
+    assert not hasattr(accuracy, "quat_angle") and not hasattr(accuracy, "BAD")
+
+
+def test_reference_for_a_contact_scene_is_newton_converged():
+    scene = accuracy.all_scenes()["box_stack"]
+    assert scene.contact
+    m = scene.model()
+    ref = accuracy.scene_reference(scene, m)
+    assert ref == evaluation.reference_setting(m, tight_solver=True)
+    assert ref.integrator == mjcffi.mjtIntegrator.mjINT_RK4
+    assert ref.timestep == pytest.approx(m.opt.timestep / 100)
+    assert ref.solver == mjcffi.mjtSolver.mjSOL_NEWTON
+    assert ref.tolerance == 1e-12
+    assert ref.iterations >= 100 and ref.ls_iterations >= 50
+    # a scene without contacts has no constraint to solve: the model's own solver stays
+    pendulum = accuracy.all_scenes()["double_pendulum"]
+    free = accuracy.scene_reference(pendulum, pendulum.model())
+    assert free.solver is None and free.tolerance is None
 
 
 def test_unneeded_stages_change_nothing_but_speed(quick_rows):
@@ -107,12 +140,12 @@ def test_item_dzhanibekov_quat_angle_resolves_tiny_rotations(angle):
     # cos(1e-8) rounds to 1.  atan2 of the vector part keeps it to full precision.
     base = _quat([0.3, -0.4, 0.5], 1.1)
     turned = _mul(base, _quat([1.0, 2.0, -0.5], angle))
-    got = accuracy.quat_angle(base, turned)
+    got = quat_angle(base, turned)
     assert got > 0
     assert got == pytest.approx(angle, rel=1e-3, abs=1e-17)
     # the same rotation whatever the sign of either quaternion, and either way round
-    assert accuracy.quat_angle(-base, turned) == pytest.approx(got, rel=1e-12, abs=1e-18)
-    assert accuracy.quat_angle(turned, base) == pytest.approx(got, rel=1e-12, abs=1e-18)
+    assert quat_angle(-base, turned) == pytest.approx(got, rel=1e-12, abs=1e-18)
+    assert quat_angle(turned, base) == pytest.approx(got, rel=1e-12, abs=1e-18)
 
 
 def test_item_dzhanibekov_quat_angle_agrees_with_mujoco():
@@ -121,9 +154,9 @@ def test_item_dzhanibekov_quat_angle_agrees_with_mujoco():
         a, b = rng.normal(size=4), rng.normal(size=4)
         a, b = a / np.linalg.norm(a), b / np.linalg.norm(b)
         difference = np.zeros(3)
-        accuracy.mujoco.mju_subQuat(difference, b, a)      # axis * angle, angle <= pi
-        assert accuracy.quat_angle(a, b) == pytest.approx(np.linalg.norm(difference), abs=1e-12)
-    assert accuracy.quat_angle([1, 0, 0, 0], [1, 0, 0, 0]) == 0.0
-    assert accuracy.quat_angle([1, 0, 0, 0], [0, 1, 0, 0]) == pytest.approx(math.pi)
+        mjcffi.mju_subQuat(difference, b, a)      # axis * angle, angle <= pi
+        assert quat_angle(a, b) == pytest.approx(np.linalg.norm(difference), abs=1e-12)
+    assert quat_angle([1, 0, 0, 0], [1, 0, 0, 0]) == 0.0
+    assert quat_angle([1, 0, 0, 0], [0, 1, 0, 0]) == pytest.approx(math.pi)
     # unnormalized quaternions are normalized first
-    assert accuracy.quat_angle([2, 0, 0, 0], _quat([0, 0, 1], 0.25) * 3) == pytest.approx(0.25)
+    assert quat_angle([2, 0, 0, 0], _quat([0, 0, 1], 0.25) * 3) == pytest.approx(0.25)
