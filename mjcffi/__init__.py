@@ -71,8 +71,8 @@ _LAZY = {
 
 
 # submodules offered as attributes: the official `mujoco.rollout`, `mujoco.batch` and
-# `mujoco.minimize`, and the mujoco-py interface
-_SUBMODULES = ("rollout", "batch", "minimize", "sim")
+# `mujoco.minimize`, the mujoco-py interface, and mjcffi.tune (callable as a function)
+_SUBMODULES = ("rollout", "batch", "minimize", "sim", "tune")
 
 # the official GL backends' modules, attributes once imported; absent (AttributeError)
 # where the backend cannot load, as official.  dir() lists glfw where it is installed,

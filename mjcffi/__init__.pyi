@@ -7,6 +7,8 @@ from ._functions import *
 from ._library import ffi as ffi, lib as lib
 from ._overrides import *
 from . import batch as batch, minimize as minimize, rollout as rollout, sim as sim
+# mjcffi.tune is a module that calls as the function tune
+from .tune import tune as tune
 from .callbacks import *
 # MjLogConfig is log_config's subclass (get, set), not the generated base that structs exports
 from .log_config import MjLogConfig as MjLogConfig

@@ -92,7 +92,9 @@ TOP = {"model", "data", "vfs", "log_config", "functions", "_overrides", "warning
        "spec",
        # the interactive viewer (issue 14): GLFW windows drawing with mjv_*/mjr_*; the
        # mjui_* functions it builds its panels with (hand-written: their mjuiDef arrays)
-       "viewer", "_mjui"}
+       "viewer", "_mjui",
+       # speed against error (issue 16): the evaluation core shared by accuracy and tune
+       "evaluation", "tune"}
 TIER = {**{n: "table" for n in TABLES}, **{n: "support" for n in SUPPORT},
         **{n: "generated" for n in GENERATED}, **{n: "top" for n in TOP}, "_mjcffi": "compiled"}
 ALLOWED = {"table": set(), "compiled": set(),
