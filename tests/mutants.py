@@ -178,6 +178,12 @@ MUTANTS = [
          "return 2.0 * np.arccos(np.minimum(1.0, np.abs(w)))"),
         ["tests/test_accuracy.py"]),
 
+    _mutant(
+        "replay_without_extra", "set_state ignores the warm start the state carries",
+        ("mjcffi/sim/_sim.py", "            mj_setState(self.model, d, extra, EXTRA_SIG)",
+         "            pass"),
+        ["tests/test_sim_replay.py"]),
+
     # -- in the generator: regenerated in the copy
     _mutant(
         "codegen_id_bound", "the generated id checks allow one past the count",

@@ -12,7 +12,8 @@ from .. import _marshal
 from .. import callbacks as _cb
 from .. import warning_errors as _warnings
 from .._errors import FatalError
-from .._functions import mj_resetData, mj_setConst
+from .._functions import (mj_getState, mj_resetData, mj_setConst, mj_setState,
+                          mj_stateSize)
 from .._library import lib
 from .._overrides import mj_forward, mj_step
 from ..model import MjModel
@@ -22,7 +23,7 @@ from . import _ray, _substep
 from ._save import _is_text, _xml_with_key
 from ._callbacks import handle_fatal
 from ._model import SimData, SimModel
-from ._state import MjSimState, _split_flat
+from ._state import EXTRA_SIG, MjSimState, _split_flat
 from ._warnings import MujocoException, _local
 
 _INT_MAX = 2**31 - 1            # mj_step's nstep is a C int
@@ -218,27 +219,51 @@ class MjSim:
     # -- state
 
     def get_state(self):
-        """An MjSimState copy of time, qpos, qvel, act and udd_state."""
+        """An MjSimState copy of time, qpos, qvel, act and udd_state, with `extra`, the
+        solver's warm start and MuJoCo's other physics state, so that set_state() of it
+        replays the following steps bit for bit (see MjSimState)."""
         d = self.data
+        extra = np.empty(mj_stateSize(self.model, EXTRA_SIG))
+        mj_getState(self.model, d, extra, EXTRA_SIG)
         return MjSimState(float(d.time), d.qpos.copy(), d.qvel.copy(),
                           d.act.copy() if self.model.na else None,
-                          copy.deepcopy(self.udd_state))
+                          copy.deepcopy(self.udd_state), extra)
 
     def set_state(self, value):
-        """Write an MjSimState (time, qpos, qvel, act, udd_state) into the sim."""
+        """Write an MjSimState (time, qpos, qvel, act, udd_state, and `extra` when it has
+        one) into the sim; nothing is written if a part does not fit this model.
+
+        With `extra` (a state from get_state), the steps after it are bit-identical to
+        those after the get_state, given the same inputs; without (a state made by hand
+        or by from_flattened), the sim's warm start stays, as mujoco-py did."""
         if not isinstance(value, MjSimState):
             raise TypeError(f"value must be an MjSimState, not {type(value).__name__}")
+        extra = self._checked_state(value)
         d = self.data
-        if np.shape(value.qpos) != (self.model.nq,) or np.shape(value.qvel) != (self.model.nv,):
-            raise ValueError("the state's qpos/qvel sizes do not match this model")
         d.time = value.time
         d.qpos[:] = value.qpos
         d.qvel[:] = value.qvel
         if self.model.na:
-            if value.act is None:
-                raise ValueError(f"the state has no act, and this model has na={self.model.na}")
             d.act[:] = value.act
+        if extra is not None:
+            mj_setState(self.model, d, extra, EXTRA_SIG)
         self.udd_state = copy.deepcopy(value.udd_state) if value.udd_state else {}
+
+    def _checked_state(self, value):
+        """ValueError unless `value`'s parts fit this model; its `extra` as float64."""
+        m = self.model
+        if np.shape(value.qpos) != (m.nq,) or np.shape(value.qvel) != (m.nv,):
+            raise ValueError("the state's qpos/qvel sizes do not match this model")
+        if m.na and value.act is None:
+            raise ValueError(f"the state has no act, and this model has na={m.na}")
+        if value.extra is None:
+            return None
+        extra = np.asarray(value.extra, dtype=np.float64)
+        size = mj_stateSize(m, EXTRA_SIG)
+        if extra.shape != (size,):
+            raise ValueError(f"the state's extra has shape {extra.shape}, and this model's "
+                             f"has ({size},): a state of another model?")
+        return extra
 
     def set_state_from_flattened(self, value):
         """Write a flattened state (MjSimState.flatten) straight into the sim.

@@ -4,16 +4,53 @@ from collections import namedtuple
 
 import numpy as np
 
+from .._enums import mjtState
+
+# What an exact replay needs besides mujoco-py's fields: the constraint solver's warm
+# start and MuJoCo's other physics state (delay buffers, plastic and plugin state).
+# The caller's inputs (ctrl, applied forces, mocap, eq_active, userdata) are left out,
+# as mujoco-py's set_state left them alone.
+EXTRA_SIG = int(mjtState.mjSTATE_WARMSTART | mjtState.mjSTATE_HISTORY
+                | mjtState.mjSTATE_PLASTIC | mjtState.mjSTATE_PLUGIN)
+
 
 class MjSimState(namedtuple("MjSimState", "time qpos qvel act udd_state")):
-    """A copy of a simulation's state: time, qpos, qvel, act (None when na == 0), udd_state.
+    """A copy of a simulation's state: time, qpos, qvel, act (None when na == 0), udd_state,
+    and optionally `extra`, what an exact replay needs besides (None when not kept).
 
-    `flatten()` gives one float64 vector, and `MjSimState.from_flattened(v, sim)`
-    reads it back with the sizes of `sim` (bit-exact both ways).  `==` compares the
-    parts by value, as mujoco-py did (a namedtuple of arrays could not).
+    `sim.get_state()` fills `extra` with `mj_getState(m, d, ..., MjSimState.EXTRA_SIG)`:
+    qacc_warmstart, the warm start of the constraint solver, and any history, plastic
+    and plugin state of the model.  `sim.set_state(state)` writes it back, so the steps
+    after it are bit-identical to those of the uninterrupted run given the same inputs
+    (ctrl, applied forces, mocap poses: the caller's, left alone as in mujoco-py).
+    A state made by hand, by `_replace`, or by `from_flattened` has `extra` None, and
+    set_state then leaves the sim's warm start as it is: with contacts the run after
+    it agrees with the uninterrupted one only to the solver's tolerance.
+
+    `flatten()` gives one float64 vector in mujoco-py's layout (time, qpos, qvel, act,
+    udd_state; not `extra`), and `MjSimState.from_flattened(v, sim)` reads it back with
+    the sizes of `sim` (bit-exact both ways, for those parts).  `==` compares the
+    five parts by value, as mujoco-py did (a namedtuple of arrays could not); `extra`
+    takes no part, so a state equals the same one read back from its flat form.  The
+    tuple and its repr are mujoco-py's five fields; pickling and copying keep `extra`.
     """
 
-    __slots__ = ()
+    EXTRA_SIG = EXTRA_SIG
+
+    def __new__(cls, time, qpos, qvel, act, udd_state, extra=None):
+        state = super().__new__(cls, time, qpos, qvel, act, udd_state)
+        if extra is not None:
+            state.__dict__["_extra"] = extra
+        return state
+
+    @property
+    def extra(self):
+        """mj_getState(m, d, EXTRA_SIG) at get_state() (a float64 vector), or None."""
+        return self.__dict__.get("_extra")
+
+    def __reduce__(self):
+        # pickle and copy through __new__, `extra` with the five fields, whatever the protocol
+        return (type(self), (*self, self.extra))
 
     def __eq__(self, other):
         """Equal parts: time, qpos, qvel and act by value (act None only equals None), and
