@@ -1,7 +1,7 @@
 """Speed against error: how fast each integrator, timestep and solver setting steps a scene,
 and how far its trajectory strays from a fine reference.
 
-    python -m mjcffi.accuracy [SCENE ...] [--budget ERR] [--out DIR] [--quick]
+    python -m mjcffi.accuracy [SCENE ...] [--budget ERR] [--out DIR] [--quick] [--ray]
 
 Scenes are the hard cases of mjcffi.scenes (read at run time) and gymnasium's humanoid
 (loaded from the installed gymnasium package).  For each scene the report sweeps the
@@ -17,6 +17,7 @@ core shared with mjcffi.tune (which measures local error per control period inst
 Writes ACCURACY.md (a table per scene, the cheapest setting within the error budget) and
 accuracy.png (error against steps/s, Pareto front marked; needs matplotlib, the `plot` extra)
 into --out (default: benchmarks/ beside this package, else the current directory).
+With --ray the trajectory runs go to Ray tasks (mjcffi.distributed); the timing stays local.
 """
 
 import argparse
@@ -265,15 +266,31 @@ def cheapest_within(rows, budget):
     return max(ok, key=lambda r: r.realtime) if ok else None
 
 
-def run_scene(scene, quick=False, log=print):
+def simulate_on_ray(scene, base_model, settings):
+    """[simulate(scene, base_model, s) for s in settings], each run a Ray task
+    (mjcffi.distributed; the scene and model go to the object store once)."""
+    from mjcffi import accuracy                # by module name: workers import it
+    from mjcffi.distributed import map_calls
+    return map_calls(accuracy.simulate, [(s,) for s in settings], shared=(scene, base_model))
+
+
+def run_scene(scene, quick=False, log=print, use_ray=False):
     m = scene.model()
     ref_setting = scene_reference(scene, m)
+    settings = sweep(scene, m, quick)
     t0 = time.perf_counter()
-    ref = simulate(scene, m, ref_setting)
-    log(f"  reference {ref_setting.label()}: {time.perf_counter() - t0:.1f} s")
+    if use_ray:
+        # the trajectories on Ray; the timing below stays on this machine, one at a time
+        ref, *trajectories = simulate_on_ray(scene, m, [ref_setting] + settings)
+        log(f"  reference and {len(settings)} settings simulated on Ray: "
+            f"{time.perf_counter() - t0:.1f} s")
+    else:
+        ref = simulate(scene, m, ref_setting)
+        log(f"  reference {ref_setting.label()}: {time.perf_counter() - t0:.1f} s")
+        trajectories = None
     rows = []
-    for s in sweep(scene, m, quick):
-        traj = simulate(scene, m, s)
+    for i, s in enumerate(settings):
+        traj = trajectories[i] if use_ray else simulate(scene, m, s)
         # a diverged run is not timed: its speed means nothing, and MuJoCo would warn each time
         rate = math.nan if traj.unstable else steps_per_second(
             scene, m, s, repeats=2 if quick else 5, min_time=0.02 if quick else 0.1)
@@ -439,6 +456,11 @@ def main(argv=None):
     p.add_argument("--out", default=None, help="folder for ACCURACY.md and accuracy.png")
     p.add_argument("--quick", action="store_true",
                    help="a small sweep (Euler and RK4, three timesteps, no solver sweep)")
+    p.add_argument("--ray", action="store_true",
+                   help="simulate the trajectories (reference and settings) as Ray tasks "
+                        "(mjcffi.distributed; connects with ray.init(), needs pip install "
+                        "'mjcffi[distributed]'); the timing (steps/s) still runs here, one "
+                        "setting at a time, so its figures are this machine's")
     args = p.parse_args(argv)
     catalogue = all_scenes()
     chosen = args.scenes or list(catalogue)
@@ -455,7 +477,7 @@ def main(argv=None):
         print(f"{name} ...", flush=True)
         t = time.perf_counter()
         scene = catalogue[name]
-        m, ref_setting, _ref, rows = run_scene(scene, args.quick)
+        m, ref_setting, _ref, rows = run_scene(scene, args.quick, use_ray=args.ray)
         results.append((scene, m, ref_setting, rows))
         print(f"  {len(rows)} settings, {time.perf_counter() - t:.1f} s", flush=True)
     report = write_report(results, args.budget, out, time.perf_counter() - started, args.quick)

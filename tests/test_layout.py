@@ -94,7 +94,9 @@ TOP = {"model", "data", "vfs", "log_config", "functions", "_overrides", "warning
        # mjui_* functions it builds its panels with (hand-written: their mjuiDef arrays)
        "viewer", "_mjui",
        # speed against error (issue 16): the evaluation core shared by accuracy and tune
-       "evaluation", "tune"}
+       "evaluation", "tune",
+       # rollouts on Ray (issue 17): actors running the C rollout pool
+       "distributed"}
 TIER = {**{n: "table" for n in TABLES}, **{n: "support" for n in SUPPORT},
         **{n: "generated" for n in GENERATED}, **{n: "top" for n in TOP}, "_mjcffi": "compiled"}
 ALLOWED = {"table": set(), "compiled": set(),

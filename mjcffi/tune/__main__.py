@@ -44,6 +44,9 @@ def parser():
     p.add_argument("--report", default=None, metavar="FILE.md",
                    help="also write the report here, with a plot beside it (FILE.png)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--ray", action="store_true",
+                   help="run the error evaluations on Ray actors (mjcffi[distributed]); "
+                        "timings stay local")
     return p
 
 
@@ -64,7 +67,8 @@ def main(argv=None):
         period = args.frame_skip * m.opt.timestep
     try:
         result = tune(m, args.budget, control_period=period, horizon=args.horizon,
-                      objective=args.objective, seed=args.seed, progress=not args.quiet)
+                      objective=args.objective, seed=args.seed, progress=not args.quiet,
+                      ray=args.ray)
     except BudgetError as error:
         print(f"mjcffi.tune: {error}", file=sys.stderr)
         return 1

@@ -49,7 +49,7 @@ class BudgetError(ValueError):
 
 
 def tune(model, budget, *, control_period=None, control=None, horizon=None, states=None,
-         objective="cheapest", nthread=None, seed=0, progress=True):
+         objective="cheapest", nthread=None, seed=0, progress=True, ray=False):
     """The cheapest settings of `model` whose local error stays within `budget`.
 
     Args:
@@ -74,6 +74,9 @@ def tune(model, budget, *, control_period=None, control=None, horizon=None, stat
       nthread: threads of the rollout pool (default: all cores).
       seed: seeds the random initial states and controls.
       progress: show a tqdm progress bar when tqdm is installed.
+      ray: run the error evaluations on Ray actors (mjcffi.distributed; needs
+        `pip install 'mjcffi[distributed]'` and, for a cluster, ray.init first); the
+        timings stay on this machine, so that speed-ups compare like with like.
 
     Returns a TuneResult.  Raises BudgetError (a ValueError) when no setting meets the
     budget, naming the best found; ValueError or TypeError on bad input, or when the model
@@ -98,11 +101,19 @@ def tune(model, budget, *, control_period=None, control=None, horizon=None, stat
     # candidates may diverge: that is measured, not raised, even with warnings as errors
     with ignore_warnings():
         return _tune(m, budget, limits, objective, period, nstep0, nperiod, nthread, initial,
-                     controls, progress, started)
+                     controls, progress, started, ray)
+
+
+def _pool(nthread, ray):
+    """Where the error evaluations run: the local C rollout pool, or Ray actors."""
+    if ray:
+        from ..distributed import RolloutCluster
+        return RolloutCluster()
+    return _rollout.Rollout(nthread=nthread if nthread > 1 else 0)
 
 
 def _tune(m, budget, limits, objective, period, nstep0, nperiod, nthread, initial, controls,
-          progress, started):
+          progress, started, ray):
     stages = unneeded_stages(m)
     base_disable = int(m.opt.disableflags)
     for s in stages:
@@ -120,7 +131,7 @@ def _tune(m, budget, limits, objective, period, nstep0, nperiod, nthread, initia
 
     bar = _progress.bar(None, "tune", progress)
     try:
-        with _rollout.Rollout(nthread=nthread if nthread > 1 else 0) as pool:
+        with _pool(nthread, ray) as pool:
             return _run(m, original, base_disable, stages, search_set, held_set, budget, limits,
                         objective, pool, nthread, nstep0, period, bar, started)
     finally:
