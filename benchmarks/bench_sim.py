@@ -1,10 +1,13 @@
 """MjSim (mujoco-py interface): MjSimPool throughput, and the cost of a substep callback.
 
-MjSimPool: both sides step gymnasium's humanoid: nsims sims with slightly different
+MjSimPool: every side steps gymnasium's humanoid: nsims sims with slightly different
 starting poses and controls, `nsubsteps` MuJoCo steps per sim per call.  The
 serial side calls `sim.step()` on each sim in turn; the pool side calls
-`MjSimPool.step()` with 2 threads.  The figures are simulation steps per
-second; the results of both sides are checked bit-identical.
+`MjSimPool.step()` with 2 threads (the C rollout pool); a third side runs the
+pool's Python-thread path (what MjSimPool falls back to when Python must run
+during the steps, and what it used always before).  Each sample starts every
+side from the same states.  The figures are simulation steps per second; the
+results of all sides are checked bit-identical.
 
 Substep callback: `MjSim.step()` with nsubsteps=5 on the humanoid, plain, with a
 controller as C `substep_callback` (one C loop, no GIL), and with the same
@@ -15,6 +18,8 @@ import time
 
 import numpy as np
 
+import mjcffi
+from mjcffi._overrides import mj_step
 from mjcffi.sim import MjSim, MjSimPool, load_model_from_path
 
 from .bench_rollout import _humanoid_path, _rate
@@ -33,30 +38,59 @@ def _sims(nsims, nsubsteps):
     return sims
 
 
+_STATE = mjcffi.mjtState.mjSTATE_INTEGRATION     # everything a step reads
+
+
+def _snapshot(sims):
+    states = []
+    for sim in sims:
+        state = np.empty(mjcffi.mj_stateSize(sim.model, _STATE))
+        mjcffi.mj_getState(sim.model, sim.data, state, _STATE)
+        states.append(state)
+    return states
+
+
+def _restore(sims, states):
+    for sim, state in zip(sims, states):
+        mjcffi.mj_setState(sim.model, sim.data, state, _STATE)
+
+
 def _measure(nsims, nsubsteps, calls, rounds, nthreads=2):
+    """Median seconds per call of each side.  Every sample starts the sims from the
+    same states, so each round times the same physics (a humanoid's step costs more
+    once it lies on the floor)."""
     serial = _sims(nsims, nsubsteps)
     pool = MjSimPool(_sims(nsims, nsubsteps), nsubsteps=nsubsteps, nthreads=nthreads)
+    python = MjSimPool(_sims(nsims, nsubsteps), nsubsteps=nsubsteps, nthreads=nthreads)
+    start = _snapshot(serial)
 
-    def run_serial():
-        start = time.perf_counter()
-        for _ in range(calls):
-            for sim in serial:
-                sim.step()
-        return (time.perf_counter() - start) / calls
+    def timing(sims, call):
+        def run_once():
+            _restore(sims, start)
+            begin = time.perf_counter()
+            for _ in range(calls):
+                call()
+            return (time.perf_counter() - begin) / calls
+        return run_once
 
-    def run_pool():
-        start = time.perf_counter()
-        for _ in range(calls):
-            pool.step()
-        return (time.perf_counter() - start) / calls
+    def step_serial():
+        for sim in serial:
+            sim.step()
 
     try:
-        medians = interleaved({"serial": run_serial, "pool": run_pool}, rounds)
+        medians = interleaved({
+            "serial": timing(serial, step_serial),
+            "pool": timing(pool.sims, pool.step),
+            "python": timing(python.sims, lambda: python._run_python(mj_step, python.sims))},
+            rounds)
     finally:
         pool.close()
-    for a, b in zip(serial, pool.sims):
-        if a.data.qpos.tobytes() != b.data.qpos.tobytes():
-            raise AssertionError("MjSimPool and serial MjSim results differ")
+        python.close()
+    for sims in (pool.sims, python.sims):
+        for a, b in zip(serial, sims):
+            for field in ("qpos", "qvel", "act"):
+                if not np.array_equal(getattr(a.data, field), getattr(b.data, field)):
+                    raise AssertionError(f"MjSimPool and serial MjSim {field} differ")
     return medians
 
 
@@ -115,26 +149,32 @@ def substep_lines(calls=40, rounds=21):
     return lines
 
 
-def run(rounds=11):
+def run(rounds=21):
     return pool_lines(rounds) + [""] + substep_lines()
 
 
-def pool_lines(rounds=11):
+def pool_lines(rounds=21):
     """The MjSimPool section of RESULTS.md."""
-    cases = [(8, 1, 20), (8, 5, 5), (16, 10, 2)]
+    cases = [(8, 1, 40), (8, 5, 10), (16, 10, 4)]     # (nsims, nsubsteps, calls per sample)
     lines = ["## `MjSimPool` (mujoco-py interface) throughput", "",
              f"Median of {rounds} interleaved rounds on gymnasium's humanoid: `MjSimPool.step()` "
-             "with 2 threads against `sim.step()` on each of the same number of `MjSim` in turn "
-             "(results checked bit-identical). Figures are simulation steps per second "
-             "(nsims × nsubsteps per call). Target: speed-up ≥ 1.8 at 2 threads.", "",
-             "| nsims × nsubsteps | serial MjSim.step steps/s | MjSimPool.step steps/s (2 threads) "
-             "| speed-up |", "|---|---:|---:|---:|"]
+             "with 2 threads on the C rollout pool (GIL released, one guarded call per sim) "
+             "against `sim.step()` on each of the same number of `MjSim` in turn, and the "
+             "pool's Python-thread path (its fallback when Python runs during the steps) "
+             "with 2 threads; each sample starts from the same states (results checked "
+             "bit-identical: qpos, qvel, act). Figures are "
+             "simulation steps per second (nsims × nsubsteps per call). Target: speed-up "
+             "≥ 1.8 at 2 threads.", "",
+             "| nsims × nsubsteps | serial MjSim.step steps/s | MjSimPool.step steps/s "
+             "(2 threads, C) | speed-up | Python threads steps/s (2 threads) | speed-up |",
+             "|---|---:|---:|---:|---:|---:|"]
     for nsims, nsubsteps, calls in cases:
         medians = _measure(nsims, nsubsteps, calls, rounds)
         steps = nsims * nsubsteps
-        lines.append(f"| {nsims} × {nsubsteps} | {_rate(medians['serial'], steps)} | "
-                     f"{_rate(medians['pool'], steps)} | "
-                     f"{medians['serial'] / medians['pool']:.2f}× |")
+        serial = medians["serial"]
+        lines.append(f"| {nsims} × {nsubsteps} | {_rate(serial, steps)} | "
+                     f"{_rate(medians['pool'], steps)} | {serial / medians['pool']:.2f}× | "
+                     f"{_rate(medians['python'], steps)} | {serial / medians['python']:.2f}× |")
     return lines
 
 

@@ -18,8 +18,10 @@
 #include <time.h>
 
 #include <mujoco/mujoco.h>
+#include <mujoco/mjbatch.h>   // _guards.h declares the mjb_* guards too
 
 #include "_guard_chain.h"
+#include "_guards.h"
 #include "_helper.h"
 #include "_rollout.h"
 
@@ -45,10 +47,12 @@ typedef struct {
   atomic_int next;            // the next chunk to hand out
 } rollout_job;
 
-// The rollouts that failed on one thread: how many, and the lowest with its message.
+// The items (rollouts, sims) that failed on one thread: how many, and the lowest
+// with its message and kind (MJCFFI_ERROR_*).
 typedef struct {
   int nfailed;
   int first;
+  int kind;
   char message[MESSAGE_SIZE];
 } rollout_failures;
 
@@ -80,9 +84,10 @@ static int warned(const mjData* d) {
   return 0;
 }
 
-static void note_failure(rollout_failures* failures, int r, const char* message) {
+static void note_failure(rollout_failures* failures, int r, int kind, const char* message) {
   if (failures->nfailed++ == 0 || r < failures->first) {
     failures->first = r;
+    failures->kind = kind;
     snprintf(failures->message, MESSAGE_SIZE, "%s", message ? message : "mju_error");
   }
 }
@@ -99,7 +104,7 @@ static void roll_one(const rollout_job* job, mjData* d, int r, rollout_failures*
   mjcffi_guard_enter(&guard);
   if (setjmp(guard.env)) {
     mjcffi_guard_leave(&guard, 1);
-    note_failure(failures, r, mjcffi_take_error());
+    note_failure(failures, r, MJCFFI_ERROR_FATAL, mjcffi_take_error());
     mj_resetData(m, d);       // the error skipped the release of d's stack frames
     size_t from = row0 + (size_t)reached, n = (size_t)job->nstep - (size_t)reached;
     if (job->state) fill_nan(job->state + from*job->nstate, n*job->nstate);
@@ -149,8 +154,10 @@ static void roll_one(const rollout_job* job, mjData* d, int r, rollout_failures*
   mjcffi_guard_leave(&guard, 0);
 }
 
-// Take chunks of the batch until none is left, rolling them out on d.
-static void work(rollout_job* job, mjData* d, rollout_failures* failures) {
+// Take chunks of the batch until none is left, rolling them out on this thread's data.
+static void rollout_work(void* arg, int thread, rollout_failures* failures) {
+  rollout_job* job = (rollout_job*)arg;
+  mjData* d = job->d[thread];
   const mjModel* m = job->m[0];
   int spec = job->control_spec;
   for (;;) {
@@ -173,10 +180,12 @@ static void work(rollout_job* job, mjData* d, rollout_failures* failures) {
 
 //---------------------------------- thread pool ---------------------------------------------------
 //
-// The calling thread rolls out chunks too, with d[0]; worker i uses d[i].  A
-// batch is published with a new generation; every worker takes part (one
-// that finds no chunk left just checks in), and the caller returns once all
-// have checked in, so no worker touches a job after its call.
+// A job is a function that every thread runs with its index (the calling
+// thread is 0, worker i is i), taking items (chunks of rollouts, sims) from a
+// shared counter until none is left.  A job is published with a new
+// generation; every worker takes part (one that finds no item left just
+// checks in), and the caller returns once all have checked in, so no worker
+// touches a job after its call.
 //
 // Waking a sleeping thread costs tens of microseconds (more in a VM), as much
 // as a short batch.  So a worker that has checked in, and a caller waiting
@@ -185,6 +194,9 @@ static void work(rollout_job* job, mjData* d, rollout_failures* failures) {
 // variable; `sleepers` tells the caller whether anyone must be woken.
 
 #define SPIN_NS 50000
+
+// What a thread of a job runs: its share of `job`, failures noted in `failures`.
+typedef void (*pool_work)(void* job, int thread, rollout_failures* failures);
 
 typedef struct {
   mjcffi_rollout_pool* pool;
@@ -204,7 +216,8 @@ struct mjcffi_rollout_pool_ {
   atomic_ulong generation;      // bumped for each batch (changed under lock)
   atomic_int busy;              // workers not yet done with this batch
   atomic_int stop;
-  rollout_job* job;             // written before the generation it belongs to
+  pool_work work;               // the job: written before the generation it belongs to
+  void* job;
 };
 
 static void relax(void) {
@@ -265,8 +278,7 @@ static void* worker_main(void* arg) {
       return NULL;
     }
     seen = generation;
-    rollout_job* job = pool->job;
-    work(job, job->d[self->id], &pool->failures[self->id]);
+    pool->work(pool->job, self->id, &pool->failures[self->id]);
     if (atomic_fetch_sub(&pool->busy, 1) == 1) {
       pthread_mutex_lock(&pool->lock);     // the caller may be asleep on `done`
       pthread_cond_signal(&pool->done);
@@ -341,7 +353,68 @@ mjcffi_rollout_pool* mjcffi_rollout_pool_new(int nthread) {
 }
 
 
-//---------------------------------- a batch -------------------------------------------------------
+//---------------------------------- a job ---------------------------------------------------------
+
+// Merge `f` into `into`: the counts add up, the lowest item's message wins.
+static void merge_failures(rollout_failures* into, const rollout_failures* f) {
+  if (!f->nfailed) {
+    return;
+  }
+  if (!into->nfailed || f->first < into->first) {
+    into->first = f->first;
+    into->kind = f->kind;
+    snprintf(into->message, MESSAGE_SIZE, "%s", f->message);
+  }
+  into->nfailed += f->nfailed;
+}
+
+// Run `job` on every thread of `pool` (or on the calling thread alone, when
+// `alone` or without a pool); its failures end up in `result`.
+static void run_job(mjcffi_rollout_pool* pool, int alone, pool_work work, void* job,
+                    rollout_failures* result) {
+  result->nfailed = 0;
+  if (!pool || alone) {
+    if (pool) pthread_mutex_lock(&pool->call);
+    work(job, 0, result);
+    if (pool) pthread_mutex_unlock(&pool->call);
+    return;
+  }
+
+  pthread_mutex_lock(&pool->call);
+  for (int i = 0; i < pool->nthread; i++) {
+    pool->failures[i].nfailed = 0;
+  }
+  pool->work = work;
+  pool->job = job;
+  atomic_store(&pool->busy, pool->nstarted);
+  pthread_mutex_lock(&pool->lock);
+  atomic_fetch_add_explicit(&pool->generation, 1, memory_order_release);
+  if (pool->sleepers) {
+    pthread_cond_broadcast(&pool->wake);
+  }
+  pthread_mutex_unlock(&pool->lock);
+
+  work(job, 0, &pool->failures[0]);
+
+  // wait for every worker to check in: spin a while, then sleep
+  spinner spin = {0, 0};
+  while (atomic_load(&pool->busy) && keep_spinning(&spin)) {}
+  pthread_mutex_lock(&pool->lock);
+  while (atomic_load(&pool->busy)) {
+    pthread_cond_wait(&pool->done, &pool->lock);
+  }
+  pthread_mutex_unlock(&pool->lock);
+  pool->work = NULL;
+  pool->job = NULL;
+
+  for (int i = 0; i < pool->nthread; i++) {
+    merge_failures(result, &pool->failures[i]);
+  }
+  pthread_mutex_unlock(&pool->call);
+}
+
+
+//---------------------------------- a batch of rollouts -------------------------------------------
 
 int mjcffi_rollout(mjcffi_rollout_pool* pool,
                    const mjModel* const* m, int nmodel, mjData* const* d,
@@ -372,52 +445,65 @@ int mjcffi_rollout(mjcffi_rollout_pool* pool,
   };
   atomic_init(&job.next, 0);
 
-  if (!pool || job.nchunk == 1) {
-    // one chunk needs no other thread; d[0] is this thread's data
-    rollout_failures mine;
-    mine.nfailed = 0;
-    if (pool) pthread_mutex_lock(&pool->call);
-    work(&job, d[0], &mine);
-    if (pool) pthread_mutex_unlock(&pool->call);
-    if (mine.nfailed) snprintf(message, message_size, "%s", mine.message);
-    return mine.nfailed;
-  }
+  // one chunk needs no other thread; d[0] is this thread's data
+  rollout_failures result;
+  run_job(pool, job.nchunk == 1, rollout_work, &job, &result);
+  if (result.nfailed) snprintf(message, message_size, "%s", result.message);
+  return result.nfailed;
+}
 
-  pthread_mutex_lock(&pool->call);
-  for (int i = 0; i < pool->nthread; i++) {
-    pool->failures[i].nfailed = 0;
-  }
-  pool->job = &job;
-  atomic_store(&pool->busy, pool->nstarted);
-  pthread_mutex_lock(&pool->lock);
-  atomic_fetch_add_explicit(&pool->generation, 1, memory_order_release);
-  if (pool->sleepers) {
-    pthread_cond_broadcast(&pool->wake);
-  }
-  pthread_mutex_unlock(&pool->lock);
 
-  work(&job, d[0], &pool->failures[0]);
+//---------------------------------- a step of many sims -------------------------------------------
 
-  // wait for every worker to check in: spin a while, then sleep
-  spinner spin = {0, 0};
-  while (atomic_load(&pool->busy) && keep_spinning(&spin)) {}
-  pthread_mutex_lock(&pool->lock);
-  while (atomic_load(&pool->busy)) {
-    pthread_cond_wait(&pool->done, &pool->lock);
-  }
-  pthread_mutex_unlock(&pool->lock);
-  pool->job = NULL;
+// One call of mjcffi_sim_pool_run, shared by its threads; only `next` changes.
+typedef struct {
+  const mjModel* const* m;
+  mjData* const* d;
+  const mjfGeneric* substep;
+  int nsim, nsubsteps, forward;
+  unsigned char* status;
+  atomic_int next;            // the next sim to hand out
+} sim_job;
 
-  int nfailed = 0;
-  rollout_failures* first = NULL;
-  for (int i = 0; i < pool->nthread; i++) {
-    rollout_failures* f = &pool->failures[i];
-    if (f->nfailed) {
-      nfailed += f->nfailed;
-      if (!first || f->first < first->first) first = f;
+// Take sims one at a time until none is left, stepping (or forwarding) each
+// under its own guard: an error stops that sim alone.
+static void sim_work(void* arg, int thread, rollout_failures* failures) {
+  sim_job* job = (sim_job*)arg;
+  (void)thread;               // each sim has its own mjData
+  for (;;) {
+    int i = atomic_fetch_add_explicit(&job->next, 1, memory_order_relaxed);
+    if (i >= job->nsim) {
+      return;
+    }
+    int caught = job->forward
+        ? mjcffi_guard_mj_forward(job->m[i], job->d[i])
+        : mjcffi_step_substep(job->m[i], job->d[i], job->nsubsteps,
+                              job->substep ? job->substep[i] : NULL);
+    if (caught) {
+      int kind = mjcffi_error_kind();
+      job->status[i] = (unsigned char)(1 + kind);
+      note_failure(failures, i, kind, mjcffi_take_error());
     }
   }
-  if (first) snprintf(message, message_size, "%s", first->message);
-  pthread_mutex_unlock(&pool->call);
-  return nfailed;
+}
+
+int mjcffi_sim_pool_run(mjcffi_rollout_pool* pool,
+                        const mjModel* const* m, mjData* const* d, const mjfGeneric* substep,
+                        int nsim, int nsubsteps, int forward,
+                        unsigned char* status, char* message, int message_size) {
+  if (nsim < 1) {
+    return 0;
+  }
+  sim_job job = {
+    .m = m, .d = d, .substep = substep,
+    .nsim = nsim, .nsubsteps = nsubsteps, .forward = forward, .status = status,
+  };
+  atomic_init(&job.next, 0);
+  for (int i = 0; i < nsim; i++) {
+    status[i] = 0;
+  }
+  rollout_failures result;
+  run_job(pool, nsim == 1, sim_work, &job, &result);
+  if (result.nfailed) snprintf(message, message_size, "%s", result.message);
+  return result.nfailed;
 }

@@ -40,3 +40,18 @@ int mjcffi_rollout(mjcffi_rollout_pool* pool,
                    long long control_tstride,
                    mjtNum* state, mjtNum* sensordata,
                    unsigned char* failed, char* message, int message_size);
+
+/* MjSimPool's step and forward: sim i (0 <= i < nsim) runs, on a thread of
+   the pool (or the calling thread alone, without one), either
+   mjcffi_step_substep(m[i], d[i], nsubsteps, substep ? substep[i] : NULL)
+   or, when `forward`, mj_forward(m[i], d[i]); each under its own guard, so an
+   mju_error (or a d[i] held by another call) stops that sim alone and the
+   others go on.  The d[i] must all differ.  status[i] becomes 0, or
+   1 + MJCFFI_ERROR_* (see _helper.h) for a sim that failed.  Calls on one
+   pool run one after the other.  Returns the number of failed sims, and
+   copies the message of the lowest failed one into message (message_size
+   bytes). */
+int mjcffi_sim_pool_run(mjcffi_rollout_pool* pool,
+                        const mjModel* const* m, mjData* const* d, const mjfGeneric* substep,
+                        int nsim, int nsubsteps, int forward,
+                        unsigned char* status, char* message, int message_size);

@@ -1,24 +1,41 @@
-"""MjSimPool: many MjSim stepped together on a persistent pool of threads."""
+"""MjSimPool: many MjSim stepped together on mjcffi's C thread pool (that of mjcffi.rollout)."""
 
 import copy
 import os
 from concurrent.futures import ThreadPoolExecutor
 
+import numpy as np
+
+from .. import _errors, _marshal
+from .. import callbacks as _cb
+from .. import warning_errors as _warnings
+from .._library import ffi, lib
 from .._overrides import mj_forward, mj_step
+from ..rollout import Rollout
 from ._sim import MjSim, _count
+
+_MESSAGE_SIZE = 2048        # as the C helper's record of a caught error
 
 
 class MjSimPool:
     """Many MjSim stepped together on a persistent pool of threads.
 
-    Each thread steps its share of the sims with mjcffi's C loop, which runs
-    with the GIL released, so the sims advance in parallel; the results are
-    those of stepping each sim alone.  `nsubsteps` is the pool's own count of
-    MuJoCo steps per `step()` (the sims' own counts are not used here).  The
-    sims must have an MjData each: a sim given twice, or two sims on one
+    `step()` first calls each sim's udd_callback (if any), as mujoco-py's pool
+    did, then runs `nsubsteps` MuJoCo steps of each sim, each step after the
+    sim's substep callback (if any), as `MjSim.step()` does; `nsubsteps` is the
+    pool's own count (the sims' own counts are not used here).  The sims run on
+    a C thread pool (mjcffi/_rollout.c, the one of mjcffi.rollout) with the GIL
+    released, one sim at a time per thread, so they advance in parallel; the
+    results are those of stepping each sim alone.  Where Python must run
+    during the steps (a sim with a Python substep callback, a Python mjcb_*
+    callback installed, or mjcffi.set_warnings_as_errors(True)) the sims run
+    on Python threads instead, which take turns on the GIL.
+
+    The sims must have an MjData each: a sim given twice, or two sims on one
     MjData, would be stepped by two threads at once.  An error in one sim
-    (a FatalError, a callback's exception, ...) is raised
-    once every other sim has stepped; the first one, in the order of `sims`.
+    (a FatalError, a callback's exception, ...) is raised once every other sim
+    has stepped; the first one, in the order of `sims`.  A FatalError raised
+    by the C pool has `failed`, the indices of every sim that failed.
     """
 
     def __init__(self, sims, nsubsteps=1, nthreads=None):
@@ -33,9 +50,9 @@ class MjSimPool:
             nthreads = os.cpu_count() or 1
         nthreads = _count(nthreads, "nthreads", 1)
         self.nthreads = min(nthreads, len(self.sims))
-        # the calling thread takes one share, the pool the others
-        self._executor = (ThreadPoolExecutor(self.nthreads - 1, thread_name_prefix="MjSimPool")
-                          if self.nthreads > 1 else None)
+        # the calling thread takes part in both pools: the C pool holds the others
+        self._threads = Rollout(nthread=self.nthreads) if self.nthreads > 1 else None
+        self._executor = None      # Python threads, started on first need
         self._closed = False
 
     @classmethod
@@ -73,11 +90,67 @@ class MjSimPool:
             _distinct(sims)     # raises, naming the culprit
         return sims
 
-    def _run(self, job, nsims):
+    def step(self, nsims=None):
+        """Run `nsubsteps` steps of the first `nsims` sims (all by default), in parallel,
+        each after its udd_callback."""
         sims = self._selected(nsims)
+        for sim in sims:
+            if sim.udd_callback is not None:
+                sim.step_udd()
+        self._run(mj_step, sims)
+
+    def forward(self, nsims=None):
+        """mj_forward on the first `nsims` sims (all by default), in parallel."""
+        self._run(mj_forward, self._selected(nsims))
+
+    def reset(self, nsims=None):
+        """Reset the first `nsims` sims (all by default).
+
+        In turn, on this thread: mj_resetData is a copy of the model's defaults,
+        cheaper than handing it to other threads, and each sim's udd_callback
+        (Python) runs again."""
+        for sim in self._selected(nsims):
+            sim.reset()
+
+    def _run(self, job, sims):
         if not sims:
             return
+        if _cb._python or _warnings._enabled or any(s._substep_python is not None for s in sims):
+            self._run_python(job, sims)
+        else:
+            self._run_c(job is mj_forward, sims)
+
+    def _run_c(self, forward, sims):
+        """The sims on the C pool: one guarded call per sim, the GIL released."""
+        n = len(sims)
+        threads = self._threads          # None without a pool (or once closed)
+        pairs = [_marshal.model_data(sim.model, sim.data) for sim in sims]
+        substeps = [sim._substep_fn for sim in sims]     # NULL where there is none
+        status = ffi.new("unsigned char[]", n)
+        message = ffi.new("char[]", _MESSAGE_SIZE)
+        nfailed = lib.mjcffi_sim_pool_run(
+            threads._pool if threads is not None else ffi.NULL,
+            ffi.new("mjModel*[]", [m for m, _ in pairs]),
+            ffi.new("mjData*[]", [d for _, d in pairs]),
+            ffi.new("mjfGeneric[]", substeps) if any(substeps) else ffi.NULL,
+            n, self.nsubsteps, forward, status, message, _MESSAGE_SIZE)
+        if _cb._pending:
+            _cb._raise_stashed()
+        if nfailed:
+            failed = np.flatnonzero(np.frombuffer(ffi.buffer(status), np.uint8))
+            text = ffi.string(message).decode("utf-8", "replace")
+            kind = status[failed[0]] - 1
+            error = (_errors.FatalError(text) if kind == lib.MJCFFI_ERROR_FATAL
+                     else _errors._refusal(kind, text))
+            error.failed = failed
+            raise error
+
+    def _run_python(self, job, sims):
+        """The sims on Python threads, for the calls that run Python during the steps."""
         n = min(self.nthreads, len(sims))
+        if n > 1 and self._executor is None:
+            self._executor = ThreadPoolExecutor(self.nthreads - 1,
+                                                thread_name_prefix="MjSimPool")
         shares = [sims[i::n] for i in range(n)]
         futures = [self._executor.submit(_run_share, job, share, self.nsubsteps)
                    for share in shares[1:]]
@@ -91,23 +164,13 @@ class MjSimPool:
             raise min(((i * n + k, exc) for k, share_errors in enumerate(errors)
                        for i, exc in share_errors), key=lambda entry: entry[0])[1]
 
-    def step(self, nsims=None):
-        """Run `nsubsteps` steps of the first `nsims` sims (all by default), in parallel."""
-        self._run(mj_step, nsims)
-
-    def forward(self, nsims=None):
-        """mj_forward on the first `nsims` sims (all by default), in parallel."""
-        self._run(mj_forward, nsims)
-
-    def reset(self, nsims=None):
-        """Reset the first `nsims` sims (all by default)."""
-        for sim in self._selected(nsims):
-            sim.reset()
-
     def close(self):
         """Stop the pool's threads (also done when the pool is collected); later calls
         raise ValueError."""
         self._closed = True
+        if self._threads is not None:
+            self._threads.close()
+            self._threads = None
         if self._executor is not None:
             self._executor.shutdown(wait=True)
             self._executor = None
@@ -139,10 +202,14 @@ def _run_share(job, sims, nsubsteps):
     errors = []
     for i, sim in enumerate(sims):
         try:
-            if job is mj_step:
-                mj_step(sim.model, sim.data, nsubsteps)
-            else:
+            if job is not mj_step:
                 job(sim.model, sim.data)
+            elif sim._substep_python is not None:
+                sim._python_substeps(sim.model, sim.data, nsubsteps)
+            elif sim.substep_callback_ptr:
+                sim._c_substeps(sim.model, sim.data, nsubsteps)
+            else:
+                mj_step(sim.model, sim.data, nsubsteps)
         except Exception as exc:
             errors.append((i, exc))
     return errors
