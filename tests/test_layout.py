@@ -71,7 +71,7 @@ TABLES = {"_enums", "_constants", "_structinfo", "_funcinfo", "_namedinfo",
 SUPPORT = {"_library", "_errors", "_views", "_marshal", "_arena", "_loading", "plugins",
            "_stringtables", "callbacks", "named", "_simsupport", "_modelcheck",
            # not named in the README's list, and importing nothing of the package
-           "_aliases", "scenes", "_machine", "_build",
+           "_aliases", "scenes", "_machine", "_build", "_progress",
            # what the mjr_* functions check of their OpenGL context (issue 12)
            "_mjr", "structs._checks", "structs._handles",
            "structs._elements", "structs._element_fields", "structs._element_vectors",

@@ -5,10 +5,10 @@ import math
 
 import numpy as np
 
+from .. import _progress
 from .. import rollout as _rollout
 from .._errors import FatalError
 from ..data import MjData
-from . import _progress
 from ._models import Store
 from ._ray import connect
 from ._request import check
@@ -187,7 +187,7 @@ class RolloutCluster:
         idle = list(self._workers)
         failures = []                       # (first global index, message), failed indices
         failed = []
-        with _progress.bar(len(shards), progress) as bar:
+        with _progress.bar(len(shards), "rollout", "shard", progress) as bar:
             while pending or running:
                 while pending and idle:
                     shard, actor = pending.popleft(), idle.pop(0)

@@ -14,6 +14,7 @@ any code that takes a list or array of uint8 frames will do.
 
 import numpy as np
 
+from .. import _progress
 from .._enums import mjtState
 from ..data import MjData
 from .._functions import mj_setState, mj_stateSize
@@ -21,17 +22,6 @@ from .._overrides import mj_forward
 from .renderer import Renderer
 
 _FULLPHYSICS = int(mjtState.mjSTATE_FULLPHYSICS)
-
-
-def _progress_bar(total, enabled, description):
-    """A tqdm bar over `total` frames, or None when disabled or tqdm is missing."""
-    if not enabled:
-        return None
-    try:
-        from tqdm.auto import tqdm
-    except ImportError:
-        return None
-    return tqdm(total=total, desc=description, unit="frame")
 
 
 def _states(model, trajectory, spec):
@@ -80,18 +70,16 @@ def render_trajectory(model, trajectory, *, camera=-1, height=240, width=320,
     elif renderer.model is not model:
         raise ValueError("renderer was made for another model than `model`")
     frames = np.empty((len(states), renderer.height, renderer.width, 3), np.uint8)
-    bar = _progress_bar(len(states), progress, "rendering")
+    bar = _progress.bar(len(states), "rendering", "frame", progress)
     try:
         for i, row in enumerate(states):
             setter(data, row)
             mj_forward(model, data)
             renderer.update_scene(data, camera=camera, scene_option=scene_option)
             renderer.render(out=frames[i])
-            if bar is not None:
-                bar.update(1)
+            bar.update(1)
     finally:
-        if bar is not None:
-            bar.close()
+        bar.close()
         if own:
             renderer.close()
     return frames

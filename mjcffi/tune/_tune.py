@@ -8,17 +8,19 @@ import time
 
 import numpy as np
 
+from .. import _progress
 from .. import rollout as _rollout
 from .._enums import mjtDisableBit
 from ..evaluation import measures
-from ..evaluation.periods import end_states, qpos_of, setting_model, steps_per_period
+from ..evaluation.periods import (end_states, period_error, qpos_of, setting_model,
+                                  steps_per_period)
 from ..evaluation.reference import REF_FACTOR, reference_setting
 from ..evaluation.settings import Setting
 from ..evaluation.states import FULLPHYSICS, initial_states, random_controls, sample
 from ..evaluation.timing import PeriodTimer, speed_ratio
 from ..model import MjModel
 from ..warning_errors import ignore_warnings
-from . import _progress, _verify
+from . import _verify
 from ._result import Change, TuneError, TuneResult
 from ._search import MIN_GAIN, Candidate, Search
 from ._stages import unneeded_stages
@@ -129,7 +131,7 @@ def _tune(m, budget, limits, objective, period, nstep0, nperiod, nthread, initia
         sets.append(samples)
     search_set, held_set = sets
 
-    bar = _progress.bar(None, "tune", progress)
+    bar = _progress.bar(None, "tune", "eval", progress, leave=False)
     try:
         with _pool(nthread, ray) as pool:
             return _run(m, original, base_disable, stages, search_set, held_set, budget, limits,
@@ -153,8 +155,8 @@ def _run(m, original, base_disable, stages, search_set, held_set, budget, limits
     search = Search(m, original, base_disable, search_set, references[0], None, pool,
                     nthread, nstep0, period, bar)
     own_error = search.error(original, nstep0)
-    own_held = _verify.held_out_error(pool, m, original, base_disable, held_set, references[1],
-                                      nstep0, nthread)
+    own_held = period_error(pool, m, original, base_disable, held_set, references[1], nstep0,
+                            nthread)
     if budget == "original":
         search.budget = {k: v * EQUAL for k, v in own_error.items()}
         held_limits = {k: v * EQUAL for k, v in own_held.items()}
@@ -207,7 +209,7 @@ class _Verification:
     def problem(self, search, c, own, objective):
         """Why candidate `c` fails on the held-out set, or None (its held_out and stability
         are filled in on the way)."""
-        c.held_out = self.own_held if c is own else _verify.held_out_error(
+        c.held_out = self.own_held if c is own else period_error(
             search.pool, self.m, c.setting, self.base_disable, self.held_set,
             self.reference_qpos, c.nstep, search.nthread)
         search.progress.update()
