@@ -1,11 +1,13 @@
 """One control period from each sampled state under a setting, on the C rollout pool."""
 
 import copy
+import math
 
 import numpy as np
 
 from .. import rollout as _rollout
 from ..data import MjData
+from .measures import local_error
 from .states import FULLPHYSICS
 
 # rollouts record every step: keep one call's output under this many float64s
@@ -48,6 +50,16 @@ def end_states(pool, m, samples, nstep, nthread):
     return out, ok
 
 
+def period_error(pool, m, setting, base_disable, samples, reference_qpos, nstep, nthread):
+    """{kind: local error} of `setting` (on top of `base_disable`) over one period of `nstep`
+    steps from each sample, against the reference's qpos; every kind infinite if a run
+    diverged."""
+    end, ok = end_states(pool, setting_model(m, setting, base_disable), samples, nstep, nthread)
+    if not ok.all():
+        return {k: math.inf for k in local_error(m, reference_qpos[:1], reference_qpos[:1])}
+    return local_error(m, qpos_of(m, end), reference_qpos)
+
+
 def qpos_of(m, states):
     """The qpos columns of (n x nstate) mjSTATE_FULLPHYSICS states (time comes first)."""
     return states[:, 1:1 + m.nq]
@@ -58,5 +70,5 @@ def new_pool(nthread):
     return _rollout.Rollout(nthread=nthread)
 
 
-__all__ = ["FULLPHYSICS", "end_states", "new_pool", "qpos_of", "setting_model",
-           "steps_per_period"]
+__all__ = ["FULLPHYSICS", "end_states", "new_pool", "period_error", "qpos_of",
+           "setting_model", "steps_per_period"]

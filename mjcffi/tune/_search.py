@@ -7,11 +7,10 @@ when it is measured faster, or for `objective='accurate'` more accurate at no ex
 """
 
 import dataclasses
-import math
 
 from .._enums import mjtCone, mjtDisableBit, mjtIntegrator, mjtJacobian, mjtSolver
 from ..evaluation import measures
-from ..evaluation.periods import end_states, qpos_of, setting_model
+from ..evaluation.periods import period_error, setting_model
 from ..evaluation.settings import INTEGRATOR_NAMES, value_name
 from ..evaluation.timing import PeriodTimer, speed_ratio
 
@@ -67,14 +66,10 @@ class Search:
 
     def error(self, setting, nstep):
         """Local error per joint kind over one period from the search states."""
-        mm = setting_model(self.m, setting, self.base_disable)
-        end, ok = end_states(self.pool, mm, self.samples, nstep, self.nthread)
         self.evaluations += 1
         self.progress.update()
-        if not ok.all():
-            return {k: math.inf for k in measures.joint_errors(
-                self.m, qpos_of(self.m, end[:1]), self.reference_qpos[:1])}
-        return measures.local_error(self.m, qpos_of(self.m, end), self.reference_qpos)
+        return period_error(self.pool, self.m, setting, self.base_disable, self.samples,
+                            self.reference_qpos, nstep, self.nthread)
 
     def timer(self, setting, nstep):
         return PeriodTimer(setting_model(self.m, setting, self.base_disable), self.samples, nstep)

@@ -17,8 +17,7 @@ import numpy as np
 from .. import functions as mjf
 from .._enums import mjtDisableBit, mjtEnableBit
 from ..data import MjData
-from ..evaluation import measures
-from ..evaluation.periods import end_states, qpos_of, setting_model
+from ..evaluation.periods import setting_model
 from ..evaluation.states import DIVERGED, FULLPHYSICS
 
 @dataclasses.dataclass
@@ -75,15 +74,6 @@ def stability(m, setting, base_disable, samples, nstep, conservative):
 def _energy(m, d):
     mjf.mj_forward(m, d)
     return float(d.energy[0] + d.energy[1])
-
-
-def held_out_error(pool, m, setting, base_disable, samples, reference_qpos, nstep, nthread):
-    mm = setting_model(m, setting, base_disable)
-    end, ok = end_states(pool, mm, samples, nstep, nthread)
-    if not ok.all():
-        return {k: math.inf for k in measures.joint_errors(m, reference_qpos[:1],
-                                                             reference_qpos[:1])}
-    return measures.local_error(m, qpos_of(m, end), reference_qpos)
 
 
 def stability_problem(candidate, original, position_budget, strict):
