@@ -18,6 +18,16 @@ _CTRL = _rollout._CTRL
 MAX_ATTEMPTS = 3          # tries of one shard on workers that die under it
 
 
+def positive_count(value, name):
+    """`value` as an int of at least 1 (None stays None): TypeError or ValueError naming it."""
+    if value is None:
+        return None
+    value = _rollout._integer(value, name, TypeError)
+    if value < 1:
+        raise ValueError(f"{name} must be positive, got {value}")
+    return value
+
+
 class RolloutCluster:
     """Rollout workers (Ray actors), kept between calls; a drop-in for a local `Rollout`.
 
@@ -36,14 +46,8 @@ class RolloutCluster:
     def __init__(self, num_workers=None, *, nthread=None):
         """Start `num_workers` actors (default: one per alive node) of `nthread` threads
         each (default: the node's CPUs shared among the workers on it)."""
-        if num_workers is not None:
-            num_workers = _rollout._integer(num_workers, "num_workers", TypeError)
-            if num_workers < 1:
-                raise ValueError(f"num_workers must be positive, got {num_workers}")
-        if nthread is not None:
-            nthread = _rollout._integer(nthread, "nthread", TypeError)
-            if nthread < 1:
-                raise ValueError(f"nthread must be positive, got {nthread}")
+        num_workers = positive_count(num_workers, "num_workers")
+        nthread = positive_count(nthread, "nthread")
         self._ray = ray = connect()
         # no CPU is held for the life of an actor: tasks (accuracy --ray) still get the CPUs
         self._actor = ray.remote(num_cpus=0, max_restarts=0, max_task_retries=0)(Worker)

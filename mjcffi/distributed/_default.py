@@ -3,7 +3,7 @@
 import threading
 
 from .. import rollout as _rollout
-from ._cluster import RolloutCluster
+from ._cluster import RolloutCluster, positive_count
 
 _default = None
 _lock = threading.Lock()
@@ -61,11 +61,7 @@ def rollout(model, initial_state, control=None, *, control_spec=_rollout._CTRL,
       ValueError, TypeError: bad input, as the local rollout raises it.
       mjcffi.FatalError: MuJoCo raised a fatal error in some rollouts; `failed` lists them.
     """
-    if num_workers is not None:
-        num_workers = _rollout._integer(num_workers, "num_workers", TypeError)
-        if num_workers < 1:
-            raise ValueError(f"num_workers must be positive, got {num_workers}")
-    return default_cluster(num_workers).rollout(
+    return default_cluster(positive_count(num_workers, "num_workers")).rollout(
         model, initial_state, control, control_spec=control_spec, skip_checks=skip_checks,
         nstep=nstep, initial_warmstart=initial_warmstart, state=state, sensordata=sensordata,
         chunk_size=chunk_size, shard_size=shard_size, progress=progress)
