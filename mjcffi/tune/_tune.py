@@ -9,6 +9,7 @@ import time
 import numpy as np
 
 from .. import _progress
+from .. import functions as mjf
 from .. import rollout as _rollout
 from .._enums import mjtDisableBit
 from ..evaluation import measures
@@ -400,7 +401,6 @@ def _split_states(m, states, rng):
     """(search, held-out) initial states."""
     if states is None:
         return initial_states(m, NTRAJ, rng), initial_states(m, NTRAJ, rng)
-    from .. import functions as mjf
     s = np.asarray(states, dtype=np.float64)
     nstate = mjf.mj_stateSize(m, FULLPHYSICS)
     if s.ndim != 2 or s.shape[1] != nstate or len(s) < 2:
