@@ -26,6 +26,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from . import outputs
+from .fastpath import FastPath
 from .structs import class_name
 
 # ------------------------------------------------------------------ tables
@@ -472,6 +473,24 @@ class _DerivedIds(Mapping):
 
 IDS = _DerivedIds()
 
+# Which generated functions have a fast path (codegen/fastpath.py), filled by generate:
+# the tests sweep those.
+FAST_PATHS: dict = {}
+
+
+def fast_path_functions():
+    """The names of the generated functions that have a fast path (generating them from
+    the installed headers first, if this process has not)."""
+    if not FAST_PATHS:
+        from . import comments, extents, fields, headers, parse
+        decls = parse.parse(headers.mujoco_declarations())
+        header_texts = headers.header_texts()
+        notes = comments.read(header_texts)
+        known = {name: value for enum in decls.enums.values() for name, value in enum.members}
+        described = fields.describe(decls, notes, extents.from_xmacros(known), known)
+        generate(decls, notes, described, header_texts)
+    return sorted(name for name, fast in FAST_PATHS.items() if fast)
+
 # Further checks before the call: statements over the converted arguments,
 # calling helpers of mjcffi/_marshal.py.
 CHECKS = {
@@ -571,6 +590,8 @@ NOT_NULLABLE = {
 OVERRIDES = {
     "mj_step": "nstep=1 repeats the step in C, under one guard (python.rst); warnings as errors",
     "mj_forward": "raises MjWarningError on a new warning when warnings are errors",
+    "mj_name2id": "a repeated (type, name) is answered from the model's memo of MuJoCo's "
+                  "answers",
     "mj_loadXML": "returns an MjModel; MuJoCo's error becomes ValueError",
     "mj_loadModel": "returns an MjModel",
     "mj_loadModelBuffer": "takes bytes, returns an MjModel",
@@ -676,20 +697,38 @@ _ELEMS = {"mjtNum": "NUM", "double": "NUM", "float": "FLOAT", "int": "INT",
 
 _HEAD = '''"""MuJoCo's functions, one Python function each, with the official bindings' signatures.
 
-Arguments are checked and converted by mjcffi/_marshal.py (see its docstring
-for the rules); every call goes through the guarded C twin
-`lib.mjcffi_guard_<name>`, so that a mju_error raises mjcffi.FatalError.
+Each function F comes in two parts.  `_F(args)` checks and converts the
+arguments with mjcffi/_marshal.py (see its docstring for the rules) and returns
+the call, ready to make, of the guarded C twin `lib.mjcffi_guard_F`, so that a
+mju_error raises mjcffi.FatalError.  `F(args)` first tries its fast path, where
+one exists: exact NumPy arrays of the right dtype, layout and shape, ids in
+range, tested inline and passed straight to C; anything else, or anything the
+fast path is unsure of, goes to `_F(args)()`, with its conversions and its
+messages.  `F.prepare(args)` keeps what `_F` made (mjcffi/_prepared.py).
 Sizes such as mju_add's `n` are deduced from the arrays.  `lib.<name>` is the
 raw C function.
 """
 
 from . import _marshal as _m
 from . import _mjr as _r
+from . import _prepared as _p
+from . import callbacks as _cb
 from . import structs as _structs
 from ._library import lib as _lib
 from .structs import _checks as _c
 from .structs import _handles as _h
 from ._arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private helpers)
+
+# what the fast paths test and convert with, bound once (and the builtins they use under
+# names no argument can shadow: mju_str2Type's argument is `str`)
+_nd, _fb, _NULL, _SLOW = _m.ndarray, _m.from_buffer, _m.NULL, _m.SLOW
+_int, _str, _getattr = int, str, getattr
+_NUM_dt, _NUM_ct = _m.NUM
+_FLOAT_dt, _FLOAT_ct = _m.FLOAT
+_INT_dt, _INT_ct = _m.INT
+_BYTE_dt, _BYTE_ct = _m.BYTE
+_SIZE_dt, _SIZE_ct = _m.SIZE
+_BOOL_dt, _BOOL_ct = _m.BOOL
 '''
 
 
@@ -931,6 +970,8 @@ class _Function:
         self.enums = enums.get(self.name, {}) if enums is not None else {}
         self.lines = []
         self.notes = []
+        self.rechecks = []      # why a prepared call must run its checks at every call
+        self.sized = set(SIZED.get(self.name, ()))
 
     # which arguments leave the signature
     def _omitted(self):
@@ -973,6 +1014,40 @@ class _Function:
             return f"its result ({ret.decl}) has no generic rule"
         return None
 
+    def blockers(self):
+        """Why this function has no fast path (codegen/fastpath.py), if it has none: a
+        special case of the tables, or a check that reads what may change."""
+        found = [table for table, names in (
+            ("CHECKS", CHECKS), ("ERRORS", ERRORS), ("SCENES", SCENES), ("KEEP", KEEP),
+            ("OMIT", OMIT)) if self.name in names]
+        if self.name in RETURNS and RETURNS[self.name] not in ("None", "ret"):
+            found.append("RETURNS")
+        if draws(self.name):
+            found.append("OpenGL")
+        return found + self.rechecks
+
+    def marshal_block(self, params):
+        """`_F(args, *, prepare=False)`: the checks and conversions (the lines write()
+        emitted), returning the guarded call."""
+        head = _signature(params)
+        head = f"def _{self.name}({head + ', ' if head else ''}*, prepare=False):"
+        doc = (f'    """The checks and conversions of {self.name}(); returns its guarded '
+               f'C call, ready to make.\n\n    prepare: for {self.name}.prepare, which '
+               f'refuses inputs it would copy and checks scalars now."""')
+        return "\n".join([head, doc] + self.lines)
+
+    def public_block(self, params):
+        """`F(args)`: its docstring, its fast path if it has one, then `_F(args)()`."""
+        recheck = ", recheck=True" if self.rechecks else ""
+        lines = [f"@_p.preparable(_{self.name}{recheck})",
+                 f"def {self.name}({_signature(params)}):",
+                 _docstring(self.signature_line(params), self.doc, self.notes)]
+        fast = FastPath(self).lines()
+        self.has_fast_path = fast is not None
+        lines += ["    " + line if line else "" for line in fast or ()]
+        lines.append(f"    return _{self.name}({', '.join(py for py, _ in params)})()")
+        return "\n".join(lines)
+
     def signature_line(self, params):
         """`name(arg: type, ...) -> type`, the first line of the docstring."""
         by_py = {a.py: a for a in self.args}
@@ -1014,19 +1089,23 @@ class _Function:
         sizes, errors, omit = self._omitted()
         params = [(a.py, a.nullable) for a in self.args
                   if a.name not in sizes | errors | set(omit) and a.kind != "varargs"]
+        self.sizes, self.errors, self.omit = sizes, errors, set(omit)   # for the fast path
         body_names = {a.py for a in self.args}
-        for local in ("ret", "status", "exc", "error", "error_sz"):
+        for local in ("ret", "status", "exc", "error", "error_sz", "call", "guard", "prepare",
+                      "fast"):
             if local in body_names and local not in errors:
                 raise ValueError(f"{self.name}: argument {local!r} clashes with a local name")
 
         self._structs()
         if self.name in SCENES:
+            self.rechecks.append("the scene may be remade")
             self._scene_check()
         for a in self.args:
             if a.kind == "text":
                 conv = "opt_text" if a.nullable else "text"
                 self.emit(f'c_{a.py} = _m.{conv}({a.py}, "{a.py}")')
             elif a.kind == "handle":
+                self.rechecks.append(f"{a.py} is a handle whose element may be deleted")
                 nullable = ", True" if a.nullable else ""
                 self.emit(f'c_{a.py} = _h.argument({a.py}, "{a.base}", "{a.py}"{nullable})')
                 self.notes.append(f"{a.py}: {'an' if a.base.startswith('mj') else 'a'} "
@@ -1034,6 +1113,7 @@ class _Function:
                                   f"of a spec element, or a function's result), never a "
                                   f"raw pointer.")
             elif a.kind == "opaque" or (a.kind == "buffer" and a.name not in self.shapes):
+                self.rechecks.append(f"{a.py} is a raw pointer")
                 self.emit(f'c_{a.py} = _m.opaque({a.py}, "{a.py}", {a.nullable})')
         for argname, enum in self.enums.items():
             py = next(a.py for a in self.args if a.name == argname)
@@ -1050,6 +1130,7 @@ class _Function:
         for a in self.args:            # the body, flex and skin an mjvPerturb selects
             if a.kind == "struct" and a.base == "mjvPerturb" and any(
                     b.base in ("mjModel", "mjData") and b.kind == "struct" for b in self.args):
+                self.rechecks.append(f"the ids {a.py} selects may change")
                 self.emit(f'_m.perturb({self._model_expr()}, c_{a.py}, "{a.py}")')
         if "objtype" in names and "objid" in names:
             model = self._model_expr()
@@ -1059,11 +1140,14 @@ class _Function:
                               f"{names['objtype'].py}.")
         self._arrays(sizes)
         for statement in CHECKS.get(self.name, ()):
+            self.rechecks.append("a check of CHECKS reads values that may change")
             self.emit(self.expr(statement))
         if draws(self.name):
+            self.rechecks.append("it draws in the OpenGL context current at the call")
             self._opengl_check()
-        if errors:
-            self.emit("error, error_sz = _m.error_buffer()")
+        for spec in [*self.shapes.values(), RETURNS.get(self.name, "")]:
+            if "[" in spec or re.search(r"\bd\.", spec):
+                self.rechecks.append(f"an extent reads the model's values or the data ({spec})")
         self._call(errors, omit)
         return params
 
@@ -1121,6 +1205,8 @@ class _Function:
             limit = f"{self._model_expr()}.{count[2:]}"
         else:
             limit = self.expr(count)
+        if not count.startswith("m."):
+            self.rechecks.append(f"{py}'s range ({count}) may change")
         if limit.startswith("_m.model_of("):          # not a plain read: once
             self.emit(f"limit_{py} = {limit}")
             limit = f"limit_{py}"
@@ -1145,9 +1231,11 @@ class _Function:
             if id(a) in done:
                 continue
             if a.kind == "struct_value":
+                self.rechecks.append(f"{a.py} is passed by value")
                 self.emit(f'c_{a.py} = _m.struct_value({a.py}, "{a.base}", "{a.py}")')
             elif a.kind == "struct":
                 conv = "opt_struct" if a.nullable else "struct"
+                self.rechecks.append(f"{a.py}'s wrapper may be given new memory")
                 self.emit(f'c_{a.py} = _m.{conv}({a.py}, "{a.base}", "{a.py}")')
 
     def _arrays(self, sizes):
@@ -1184,6 +1272,7 @@ class _Function:
                     break
             chains[var] = chain
         first = {b[0].name for chain in chains.values() for b in chain}
+        self.arrays, self.specs, self.chains = arrays, specs, chains   # for the fast path
 
         messages = MESSAGES.get(self.name, {})
         sized = set(SIZED.get(self.name, ()))
@@ -1196,8 +1285,9 @@ class _Function:
                 return
             conv = f"opt_{direction}" if a.nullable else f"array_{direction}"
             extra = f", {dims}{_message(messages.get(a.name))}" if dims else ""
+            live = ", live=prepare" if a.const else ""
             self.emit(f'{a.py}, c_{a.py} = _m.{conv}({a.py}, _m.{_ELEMS[a.base]}, '
-                      f'"{a.py}"{extra})')
+                      f'"{a.py}"{extra}{live})')
 
         def extents(a):
             dims = specs[a.name]
@@ -1249,9 +1339,10 @@ class _Function:
                 self.notes.append(f"{a.py}: {'output ' if not a.const else ''}array {what} "
                                   f"{shape}{' or None' if a.nullable else ''}.")
 
-    def _call(self, errors, omit):
-        values = []
-        scalars = []
+    def call_values(self, errors, omit, names=None):
+        """The C call's arguments, as Python expressions: `c_<py>` for what was converted
+        (or `names[py]`), the argument itself for a scalar; and the scalar arguments."""
+        values, scalars = [], []
         for a in self.args:
             if a.kind == "varargs":
                 continue
@@ -1265,35 +1356,54 @@ class _Function:
                 values.append(a.py)
                 scalars.append(a)
             else:
-                values.append(f"c_{a.py}")
-        ret = self.func.restype
-        void = ret.decl == "void"
-        target = "status = " if void else "ret = "
-        if RETURNS.get(self.name) == "None":
-            target = ""                   # the result is dropped, as the official bindings do
-        indent = "        " if scalars else "    "
-        call = _wrapped(f"{target}_lib.mjcffi_guard_{self.name}(", values, ")", indent)
+                values.append((names or {}).get(a.py, f"c_{a.py}"))
+        return values, scalars
+
+    def _call(self, errors, omit):
+        """The end of `_F`: the guarded call, as a closure over what was converted."""
+        values, scalars = self.call_values(errors, omit)
+        entries = [f'"{a.py}": ("{a.decl}", {a.py})' for a in scalars]
         if scalars:
-            entries = [f'"{a.py}": ("{a.decl}", {a.py})' for a in scalars]
-            self.emit("try:")
-            self.emit("    " + call)
-            self.emit("except (TypeError, OverflowError) as exc:")
-            self.emit("    " + _wrapped(f'raise _m.scalar_error(exc, "{self.name}", {{',
-                                        entries, "}) from None", indent))
+            self.emit("if prepare:")
+            self.emit("    " + _wrapped(f'_m.check_scalars("{self.name}", {{', entries, "})",
+                                        "        "))
+        self.emit(f"guard = _lib.mjcffi_guard_{self.name}")
+        self.emit("")
+        self.emit("def call():")
+        body = []
+        if errors:
+            body.append("error, error_sz = _m.error_buffer()")
+        void = self.func.restype.decl == "void"
+        call = _wrapped(f"{'status' if void else 'ret'} = guard(", values, ")",
+                        "            " if scalars else "        ")
+        if scalars:
+            body += ["try:", "    " + call, "except (TypeError, OverflowError) as exc:",
+                     "    " + _wrapped(f'raise _m.scalar_error(exc, "{self.name}", {{',
+                                       entries, "}) from None", "            ")]
         else:
-            self.emit(call)
-        if void:
-            self.emit("_m.check(status)")
-            return
-        self.emit("_m.check_error()")
+            body.append(call)
+        body += self.ending()
+        for line in body:
+            self.emit("    " + line if line else "")
+        self.emit("return call")
+
+    def ending(self):
+        """The lines after `status = ...` or `ret = ...`: the error checks, the result."""
+        ret = self.func.restype
+        if ret.decl == "void":
+            return ["if status or _cb._pending:", "    _m.check(status)"]
+        if ret.pointer == 0 and ret.base in self.described:
+            lines = ["_m.check_error()"]          # a struct returned by value: no zero test
+        else:                                     # a guard returns zero on an error
+            lines = ["if not ret or _cb._pending:", "    _m.check_error()"]
         if self.name in ERRORS:
             test, exc, returns = ERRORS[self.name]
             exc = "_m.FatalError" if exc == "FatalError" else exc
-            self.emit(f"if {self.expr(test)}:")
-            self.emit(f'    raise {exc}(_m.error_text(error, "{self.name}"))')
+            lines += [f"if {self.expr(test)}:",
+                      f'    raise {exc}(_m.error_text(error, "{self.name}"))']
             if not returns:
-                return
-        self.emit(f"return {self._result(ret)}")
+                return lines
+        return lines + [f"return {self._result(ret)}"]
 
     def _result(self, ret):
         if self.name in RETURNS:
@@ -1346,6 +1456,7 @@ def _unsupported(func, note, reason, described, typedefs):
     doc = _docstring(f"{func.name}({typed}) -> None", note.doc if note else "",
                      notes + [f"The raw C function is mjcffi.lib.{func.name}."])
     return "\n".join([
+        f"@_p.preparable(None, unsupported={reason!r})",
         f"def {func.name}({params}):",
         doc,
         "    raise NotImplementedError(",
@@ -1393,10 +1504,9 @@ def generate(decls, notes, described, header_texts):
         if reason:
             raise ValueError(f"{name}: {reason}; add it to SHAPES, OVERRIDES or UNSUPPORTED")
         params = writer.write()
-        header = f"def {name}({_signature(params)}):"
-        blocks.append("\n".join([header, _docstring(writer.signature_line(params),
-                                                    writer.doc, writer.notes)]
-                                + writer.lines))
+        blocks.append(writer.marshal_block(params))
+        blocks.append(writer.public_block(params))
+        FAST_PATHS[name] = writer.has_fast_path
     text = outputs.HEADER_PY + _HEAD + _enum_table(decls, enums) + "\n\n" + \
         "\n\n\n".join(blocks) + "\n"
     return {"mjcffi/_functions.py": text}

@@ -119,6 +119,14 @@ def scalar_error(exc, func, scalars):
     return TypeError(f"{func}(): a scalar argument was refused ({names}): {exc}")
 
 
+def check_scalars(func, scalars):
+    """Raise the error naming the first of `scalars` that its C type refuses (a prepared
+    call converts its scalars at every call: a bad one is refused when it is prepared)."""
+    bad = bad_scalar(func, scalars)
+    if bad is not None:
+        raise bad
+
+
 def bad_scalar(func, scalars):
     """The error naming the first of `scalars` (as scalar_error takes them) that its C
     type refuses, or None.  For a check that runs before the call converts them (the
@@ -238,6 +246,10 @@ def data_of(m, d, mname="m", dname="d"):
 
 def text(value, name):
     """A `const char *` argument: str (UTF-8), bytes or os.PathLike, without NUL."""
+    if value.__class__ is str:               # the common case: a NUL test on str is cheaper
+        if "\0" in value:
+            raise ValueError(f"{name} contains a NUL character")
+        return value.encode("utf-8")
     if isinstance(value, str):
         raw = value.encode("utf-8")
     elif isinstance(value, bytes):
@@ -306,13 +318,15 @@ def _convert(value, dtype, name):
         raise ArgumentError(f"{name} cannot be converted to a {dtype} array: {exc}") from None
 
 
-def array_in(value, elem, name, dims=None, message=None):
+def array_in(value, elem, name, dims=None, message=None, live=False):
     """An input array: (ndarray, C pointer); converted to `elem`'s dtype when needed.
 
     `dims`: the expected extents, checked (see `shape`); `message`: the official
-    message for a wrong shape.
+    message for a wrong shape.  `live` (a prepared call, which reads the array at
+    every call): an array that would be copied is refused instead.
     """
     dtype, ctype = elem
+    given = value
     if type(value) is not _ndarray or value.dtype is not dtype:
         value = _convert(value, dtype, name)
     if dims is not None:
@@ -322,17 +336,30 @@ def array_in(value, elem, name, dims=None, message=None):
         else:
             shape(value, dims, name, message)
     try:
-        return value, _from_buffer(ctype, value)
+        pointer = _from_buffer(ctype, value)
     except ValueError:               # not C-contiguous: cheaper to learn here than by flags
         value = _convert(value, dtype, name)
-        return value, _from_buffer(ctype, value)
+        pointer = _from_buffer(ctype, value)
+    if live and value is not given and not (isinstance(given, _ndarray)
+                                            and np.may_share_memory(given, value)):
+        raise ArgumentError(f"{name} must be a C-contiguous NumPy array of dtype {dtype} to be "
+                            f"prepared, not {_kind_of(given)}: a prepared call reads it at "
+                            f"every call, and a converted copy would never see later changes")
+    return value, pointer
 
 
-def opt_in(value, elem, name, dims=None, message=None):
+def _kind_of(value):
+    if isinstance(value, _ndarray):
+        layout = "C-contiguous" if value.flags.c_contiguous else "non-contiguous"
+        return f"a {layout} {value.dtype} array"
+    return type(value).__name__
+
+
+def opt_in(value, elem, name, dims=None, message=None, live=False):
     """As `array_in`, with None meaning NULL (the header says Nullable)."""
     if value is None:
         return None, NULL
-    return array_in(value, elem, name, dims, message)
+    return array_in(value, elem, name, dims, message, live)
 
 
 def array_out(value, elem, name, dims=None, message=None):
@@ -518,6 +545,13 @@ def count(value, name, message=None):
     return value
 
 
+# What the generated fast paths read (codegen/fastpath.py): an exception of these
+# while their arguments are checked and converted sends the call down the slow path.
+ndarray = np.ndarray
+from_buffer = ffi.from_buffer
+SLOW = (AttributeError, TypeError, ValueError, KeyError, BufferError)
+
+
 # mjtObj -> the mjModel count of its objects (mjOBJ_XBODY counts bodies).
 _OBJECT_COUNTS = (
     ("BODY", "nbody"), ("XBODY", "nbody"), ("JOINT", "njnt"), ("DOF", "nv"), ("GEOM", "ngeom"),
@@ -526,20 +560,18 @@ _OBJECT_COUNTS = (
     ("MATERIAL", "nmat"), ("PAIR", "npair"), ("EXCLUDE", "nexclude"), ("EQUALITY", "neq"),
     ("TENDON", "ntendon"), ("ACTUATOR", "nu"), ("SENSOR", "nsensor"), ("NUMERIC", "nnumeric"),
     ("TEXT", "ntext"), ("TUPLE", "ntuple"), ("KEY", "nkey"), ("PLUGIN", "nplugin"))
-_COUNT_OF: dict = {}
+COUNT_OF = {getattr(lib, "mjOBJ_" + kind): field
+            for kind, field in _OBJECT_COUNTS if hasattr(lib, "mjOBJ_" + kind)}
 
 
 def object_id(model, objtype, objid, name="objid"):
     """Check `objid` against the count of its `objtype` (an unknown type is MuJoCo's
     to refuse); `model` is the C mjModel."""
-    if not _COUNT_OF:
-        _COUNT_OF.update({getattr(lib, "mjOBJ_" + kind): field
-                          for kind, field in _OBJECT_COUNTS if hasattr(lib, "mjOBJ_" + kind)})
     try:
         objtype = operator.index(objtype)
     except TypeError:
         return                   # cffi refuses it, and scalar_error names it
-    field = _COUNT_OF.get(objtype)
+    field = COUNT_OF.get(objtype)
     if field is not None:
         index(objid, getattr(model, field), name)
 

@@ -34,6 +34,7 @@ import numpy as np
 
 from . import _marshal as _m
 from . import _mjr
+from . import _prepared as _p
 from ._constants import (mjMAXUIEDIT, mjMAXUIITEM, mjMAXUIMULTI, mjMAXUINAME, mjMAXUIRECT,
                          mjMAXUISECT, mjMAXUITEXT, mjNAUX, mjPRESERVE)
 from ._enums import mjtItem, mjtSection
@@ -457,6 +458,7 @@ def _forget_stale_focus(pointer, record):
             setattr(pointer, sect, 0)
 
 
+@_p.preparable(None)
 def mjui_add(ui, def_):
     """Python: def_ is a sequence of definitions, each an MjuiDef (items without data),
     a tuple (type, name, state, pdata, other, otherint) or a dict of those keys (name
@@ -476,6 +478,7 @@ def mjui_add(ui, def_):
         _add(ui, record, rows, lambda array: lib.mjcffi_guard_mjui_add(pointer, array))
 
 
+@_p.preparable(None)
 def mjui_addToSection(ui, sect, def_):
     """Python: as mjui_add, adding items (no sections) to section sect, one of the
     sections ui has."""
@@ -597,6 +600,7 @@ def _rect_in_use(pointer, c_state):
                          f"state.rect[{pointer.rectid}] (the UI's rectangle) is not in use")
 
 
+@_p.preparable(None)
 def mjui_resize(ui, con):
     """Python: con must be an MjrContext made in the OpenGL context current on this
     thread."""
@@ -606,6 +610,7 @@ def mjui_resize(ui, con):
         _m.check(lib.mjcffi_guard_mjui_resize(ui._ptr, con._ptr))
 
 
+@_p.preparable(None)
 def mjui_update(section, item, ui, state, con):
     """Python: section is -1 (all) or a section of ui, item -1 (all) or an item of that
     section; con must be an MjrContext made in the OpenGL context current on this
@@ -623,6 +628,7 @@ def mjui_update(section, item, ui, state, con):
         _m.check(lib.mjcffi_guard_mjui_update(section, item, pointer, c_state, con._ptr))
 
 
+@_p.preparable(None)
 def mjui_event(ui, state, con):
     """Python: returns the MjuiItem the event changed (a view into ui), or None; con
     must be an MjrContext made in the OpenGL context current on this thread."""
@@ -636,6 +642,7 @@ def mjui_event(ui, state, con):
     return None if changed == ffi.NULL else MjuiItem._wrap(changed, ui._root)
 
 
+@_p.preparable(None)
 def mjui_render(ui, state, con):
     """Python: con must be an MjrContext made in the OpenGL context current on this
     thread; the UI's image is the aux buffer ui.auxid (mjr_addAux, then mjui_update)."""

@@ -8,15 +8,20 @@ mjModel/mjData.  Each docstring holds the Python notes only: mjcffi/functions.py
 puts the signature line (SIGNATURES) and the header's doc comment above it.
 
 Like the generated functions they call only guarded C functions, so that a
-mju_error raises FatalError.
+mju_error raises FatalError.  Each has `prepare` (mjcffi/_prepared.py):
+mj_step, mj_forward and mj_name2id check their arguments once, as the generated
+functions do; the others (`preparable(None)`) bind their arguments, and each
+call runs the function, checks and all.
 """
 
 import numpy as np
 
 from . import _marshal as _m
 from . import _mjr
+from . import _prepared as _p
 from . import callbacks as _callbacks
 from . import warning_errors as _warnings
+from ._enums import mjtObj
 from ._errors import ArgumentError, with_note
 from ._library import ffi, lib
 from ._views import int_argument
@@ -26,7 +31,7 @@ from ._mjui import SIGNATURES as _MJUI_SIGNATURES
 from ._mjui import (mjui_add, mjui_addToSection, mjui_event, mjui_render, mjui_resize,
                     mjui_update)
 
-__all__ = ["mj_step", "mj_forward", "mj_loadXML", "mj_loadModel", "mj_loadModelBuffer",
+__all__ = ["mj_step", "mj_forward", "mj_name2id", "mj_loadXML", "mj_loadModel", "mj_loadModelBuffer",
            "mj_compile", "mj_copyModel", "mj_embedAssets", "mj_makeData", "mj_defaultVFS",
            "mj_deleteVFS", "mj_loadTexture", "mj_saveXMLString", "mj_printSchema",
            "mjs_getDouble", "mjr_findRect", "mju_getXMLDependencies", "mju_getLogConfig",
@@ -49,6 +54,7 @@ _DEPTH = "numpy.typing.NDArray[numpy.float32]"
 SIGNATURES = {
     "mj_step": f"mj_step(m: {_M}, d: {_D}, nstep: int = 1) -> None",
     "mj_forward": f"mj_forward(m: {_M}, d: {_D}) -> None",
+    "mj_name2id": f"mj_name2id(m: {_M}, type: int, name: str) -> int",
     "mj_loadXML": f"mj_loadXML(filename: str, vfs: {_VFS} | None = None) -> {_M}",
     "mj_loadModel": f"mj_loadModel(filename: str, vfs: {_VFS} | None = None) -> {_M}",
     "mj_loadModelBuffer": f"mj_loadModelBuffer(buffer: bytes) -> {_M}",
@@ -88,6 +94,25 @@ SIGNATURES = {
 SIGNATURES.update(_MJUI_SIGNATURES)
 
 
+def _mj_step(m, d, nstep=1, *, prepare=False):
+    """mj_step's checks; returns its call (for mj_step.prepare)."""
+    c_m, c_d = _m.model_data(m, d)
+    if prepare:
+        _m.check_scalars("mj_step", {"nstep": ("int", nstep)})
+
+    def call():
+        if _warnings._enabled:
+            return _step_checked(m, d, nstep)
+        try:
+            status = _step(c_m, c_d, nstep)
+        except (TypeError, OverflowError) as exc:
+            raise _m.scalar_error(exc, "mj_step", {"nstep": ("int", nstep)}) from None
+        if status or _callbacks._pending:
+            _m.check(status)
+    return call
+
+
+@_p.preparable(_mj_step)
 def mj_step(m, d, nstep=1):
     """Optionally, repeat nstep times.
 
@@ -126,10 +151,38 @@ def _step_checked(m, d, nstep):
     _warnings.after_call(d, before)
 
 
+def _mj_forward(m, d, *, prepare=False):
+    """mj_forward's checks; returns its call (for mj_forward.prepare)."""
+    c_m, c_d = _m.model_data(m, d)
+    guard = lib.mjcffi_guard_mj_forward
+
+    def call():
+        if _warnings._enabled:
+            return _forward_checked(m, d)
+        status = guard(c_m, c_d)
+        if status or _callbacks._pending:
+            _m.check(status)
+    return call
+
+
+@_p.preparable(_mj_forward)
 def mj_forward(m, d):
     """Python: d must be made for m (or a model of the same sizes).  With
     mjcffi.set_warnings_as_errors(True), a MuJoCo warning during the call raises
     MjWarningError."""
+    try:                                 # the hot path, as mj_step's
+        fast = d._model is m and not _warnings._enabled
+    except AttributeError:
+        fast = False
+    if not fast:
+        return _forward_checked(m, d)
+    status = lib.mjcffi_guard_mj_forward(m._ptr, d._ptr)
+    if status or _callbacks._pending:
+        _m.check(status)
+
+
+def _forward_checked(m, d):
+    """mj_forward for any other case: checks m and d, and warnings when asked."""
     c_m, c_d = _m.model_data(m, d)
     before = _warnings.before_call(d) if _warnings._enabled else None
     try:
@@ -141,6 +194,65 @@ def mj_forward(m, d):
     _warnings.after_call(d, before)
 
 
+# ------------------------------------------------------------ names
+#
+# mj_name2id is asked the same question again and again (a controller looks up its
+# sites every step).  MuJoCo's answer depends on the model's name tables alone, so an
+# MjModel keeps a memo of the answers MuJoCo gave it: a repeated (type, name) is one
+# dict lookup.  The tables are taken as fixed once compiled, as the named-access
+# methods of both bindings take them; mj_copyModel into a model forgets its memo.
+
+_MEMO_SIZE = 4096        # answers kept per model: a bound for code that asks many names
+_OBJECT_TYPES = (int, mjtObj)
+
+
+def _mj_name2id(m, type, name, *, prepare=False):
+    """mj_name2id's checks; returns its call (for mj_name2id.prepare, which asks MuJoCo
+    at every call)."""
+    c_m = _m.struct(m, "mjModel", "m")
+    c_name = _m.text(name, "name")
+    if prepare:
+        _m.check_scalars("mj_name2id", {"type": ("int", type)})
+    guard = lib.mjcffi_guard_mj_name2id
+
+    def call():
+        try:
+            ret = guard(c_m, type, c_name)
+        except (TypeError, OverflowError) as exc:
+            raise _m.scalar_error(exc, "mj_name2id", {"type": ("int", type)}) from None
+        if not ret or _callbacks._pending:
+            _m.check_error()
+        return ret
+    return call
+
+
+@_p.preparable(_mj_name2id)
+def mj_name2id(m, type, name):
+    """Python: a repeated (type, name) is answered from the MjModel's memo of MuJoCo's
+    own answers (mjcffi/_overrides.py); name is str or bytes, without NUL."""
+    if type.__class__ in _OBJECT_TYPES and name.__class__ is str:
+        try:
+            return m._name2id[type, name]
+        except (AttributeError, KeyError):
+            pass
+        answer = _mj_name2id(m, type, name)()
+        memo = getattr(m, "__dict__", None)
+        if memo is not None and getattr(m, "_cname", None) == "mjModel":
+            memo = memo.setdefault("_name2id", {})
+            if len(memo) < _MEMO_SIZE:
+                memo[type, name] = answer
+        return answer
+    return _mj_name2id(m, type, name)()
+
+
+def forget_names(model):
+    """Drop what a model wrapper remembers of its names (the mj_name2id memo, the named
+    accessors), for when its mjModel is overwritten in place."""
+    state = getattr(model, "__dict__", {})
+    for cache in ("_name2id", "_name_ids", "_named", "_named_ids"):
+        state.pop(cache, None)
+
+
 # ------------------------------------------------------------ new models
 
 def _model(pointer):
@@ -150,6 +262,7 @@ def _model(pointer):
     return MjModel._wrap(root, root)
 
 
+@_p.preparable(None)
 def mj_loadXML(filename, vfs=None):
     """Python: returns an MjModel; MuJoCo's error message becomes ValueError."""
     c_filename = _m.text(filename, "filename")
@@ -162,6 +275,7 @@ def mj_loadXML(filename, vfs=None):
     return _model(ret)
 
 
+@_p.preparable(None)
 def mj_loadModel(filename, vfs=None):
     """Python: returns an MjModel; ValueError if MuJoCo cannot load the file."""
     c_filename = _m.text(filename, "filename")
@@ -173,6 +287,7 @@ def mj_loadModel(filename, vfs=None):
     return _model(ret)
 
 
+@_p.preparable(None)
 def mj_loadModelBuffer(buffer):
     """Python: takes bytes-like MJB content (buffer_sz is its length); returns an MjModel."""
     c_buffer, nbytes = _m.buffer_in(buffer, "buffer")
@@ -183,6 +298,7 @@ def mj_loadModelBuffer(buffer):
     return _model(ret)
 
 
+@_p.preparable(None)
 def mj_compile(s, vfs=None):
     """Python: returns an MjModel; on failure, mjs_getError's message becomes ValueError.
 
@@ -206,6 +322,7 @@ def mj_compile(s, vfs=None):
     return _model(ret)
 
 
+@_p.preparable(None)
 def mj_copyModel(dest, src):
     """Python: dest None returns a new MjModel; otherwise dest, an MjModel of the
     same sizes as src, receives the copy and is returned."""
@@ -218,10 +335,12 @@ def mj_copyModel(dest, src):
     if ffi.buffer(c_dest, _m._SIZES)[:] != ffi.buffer(c_src, _m._SIZES)[:]:
         raise ValueError("dest must have the same sizes as src")
     lib.mjcffi_guard_mj_copyModel(c_dest, c_src)
+    forget_names(dest)                  # its names may be other ones now
     _m.check_error()
     return dest
 
 
+@_p.preparable(None)
 def mj_embedAssets(m):
     """Python: returns a new MjModel; MuJoCo's error message becomes ValueError."""
     c_m = _m.struct(m, "mjModel", "m")
@@ -233,6 +352,7 @@ def mj_embedAssets(m):
     return _model(ret)
 
 
+@_p.preparable(None)
 def mj_makeData(m):
     """Python: returns MjData(m)."""
     from .data import MjData
@@ -245,6 +365,7 @@ def mj_makeData(m):
 # until the provider is unmounted or the VFS deleted: mjcffi/vfs.py keeps the
 # providers alive that long.
 
+@_p.preparable(None)
 def mj_defaultVFS(vfs):
     """Python: an MjVFS is initialized when made and freed when collected; this
     empties it (what it held is freed, providers are unmounted), and it stays usable."""
@@ -252,6 +373,7 @@ def mj_defaultVFS(vfs):
     _vfs.reset(vfs)
 
 
+@_p.preparable(None)
 def mj_deleteVFS(vfs):
     """Python: frees the files in the VFS and leaves it empty and usable: a
     deleted VFS that MuJoCo reads again would crash, and the MjVFS frees its
@@ -259,6 +381,7 @@ def mj_deleteVFS(vfs):
     mj_defaultVFS(vfs)
 
 
+@_p.preparable(None)
 def mj_mountVFS(vfs, filepath, provider):
     """Python: vfs is an MjVfs or MjVFS, which keeps `provider` (an
     MjpResourceProvider) alive while it is mounted: MuJoCo reads it until then."""
@@ -266,12 +389,14 @@ def mj_mountVFS(vfs, filepath, provider):
     return _vfs.mount(vfs, filepath, provider)
 
 
+@_p.preparable(None)
 def mj_unmountVFS(vfs, filename):
     """Python: the VFS lets go of the provider it kept alive."""
     from . import vfs as _vfs
     return _vfs.unmount(vfs, filename)
 
 
+@_p.preparable(None)
 def mj_deleteFileVFS(vfs, filename):
     """Python: a provider mounted at `filename` is unmounted too, as in MuJoCo,
     and the VFS lets go of it."""
@@ -314,6 +439,7 @@ def _renew(scn, make=None, model=_m.NULL):
         scn.__dict__.pop(name, None)
 
 
+@_p.preparable(None)
 def mjv_makeScene(m, scn, maxgeom):
     """Python: scn gets a new mjvScene, so that wrappers and views taken from its old
     one (scn.geoms[0], ...) keep that one alive and valid; it is freed when the last
@@ -330,6 +456,7 @@ def mjv_makeScene(m, scn, maxgeom):
     _renew(scn, make, c_m)
 
 
+@_p.preparable(None)
 def mjv_freeScene(scn):
     """Python: scn gets a new, empty mjvScene (as mjv_freeScene leaves it); its old
     one is freed when the last wrapper or view taken from it (scn.geoms[0], ...)
@@ -337,6 +464,7 @@ def mjv_freeScene(scn):
     _renew(_scene(scn))
 
 
+@_p.preparable(None)
 def mjv_defaultScene(scn):
     """Python: as mjv_freeScene: scn gets a new, zeroed mjvScene, and its old one is
     freed when the last wrapper or view taken from it goes (MuJoCo's mjv_defaultScene
@@ -349,6 +477,7 @@ def mjv_defaultScene(scn):
 _ALLOCATED: set = set()      # addresses that mju_malloc returned and mju_free has not freed
 
 
+@_p.preparable(None)
 def mju_malloc(size):
     """Python: returns a raw cffi `void *` (None if MuJoCo returns NULL), which only
     mju_free frees."""
@@ -363,6 +492,7 @@ def mju_malloc(size):
     return ret
 
 
+@_p.preparable(None)
 def mju_free(ptr):
     """Python: ptr must be a pointer that mju_malloc returned and that was not freed
     yet (ValueError otherwise): any other pointer is memory that MuJoCo or Python
@@ -380,6 +510,7 @@ def mju_free(ptr):
 
 # ----------------------------------------------------------- other shapes
 
+@_p.preparable(None)
 def mj_loadTexture(m, id):
     """Python: returns (pixels, colorspace), pixels a uint8 array of shape
     (height, width, nchannel), as the official bindings; ValueError on failure."""
@@ -403,6 +534,7 @@ def mj_loadTexture(m, id):
     return pixels, colorspace[0]
 
 
+@_p.preparable(None)
 def mj_saveXMLString(s):
     """Python: returns the XML as str; MuJoCo's error message becomes ValueError."""
     c_s = _m.struct(s, "mjSpec", "s")
@@ -419,6 +551,7 @@ def mj_saveXMLString(s):
         size = ret + 1                  # the size it needs
 
 
+@_p.preparable(None)
 def mj_printSchema(flg_html, flg_pad):
     """Python: mj_printSchema(flg_html, flg_pad) returns the schema as str, as the
     official bindings (no file, no buffer)."""
@@ -436,6 +569,7 @@ def mj_printSchema(flg_html, flg_pad):
         size *= 4
 
 
+@_p.preparable(None)
 def mjs_getDouble(source):
     """Python: returns a NumPy copy of the mjDoubleVec `source`, a handle (a spec field
     such as MjsBody.userdata), never a raw pointer."""
@@ -446,6 +580,7 @@ def mjs_getDouble(source):
     return _m.copy_array(ret, size[0], _m.NUM)
 
 
+@_p.preparable(None)
 def mjr_findRect(x, y, nrect, rect):
     """Python: rect is one MjrRect or a sequence of at least nrect of them."""
     rects = list(rect) if isinstance(rect, (list, tuple)) else [rect]
@@ -468,6 +603,7 @@ def mjr_findRect(x, y, nrect, rect):
 # An MjrContext records the OpenGL context it was made in (mjcffi/_mjr.py), which
 # every mjr_* function that draws checks.
 
+@_p.preparable(None)
 def mjr_makeContext(m, con, fontscale):
     """Python: con must be an MjrContext (MjrContext(m, fontscale) does the same in
     one step).  An OpenGL context must be current (FatalError otherwise: make a
@@ -478,6 +614,7 @@ def mjr_makeContext(m, con, fontscale):
     _mjr.make_context(con._ptr, record, c_m, fontscale)
 
 
+@_p.preparable(None)
 def mjr_freeContext(con):
     """Python: as con.free(): OpenGL objects are deleted only while the OpenGL context con
     was made in is current (elsewhere MuJoCo's memory alone is freed); freeing twice does
@@ -524,6 +661,7 @@ def _enough(array, needed, name):
                         f"MuJoCo writes or reads unchecked")
 
 
+@_p.preparable(None)
 def mjr_readPixels(rgb, depth, viewport, con):
     """Python: rgb (uint8) and depth (float32) are writable C-contiguous arrays of any
     shape, such as (height, width, 3) and (height, width), or None; they must hold the
@@ -548,6 +686,7 @@ def mjr_readPixels(rgb, depth, viewport, con):
     _m.check(lib.mjcffi_guard_mjr_readPixels(c_rgb, c_depth, rect, c_con))
 
 
+@_p.preparable(None)
 def mjr_drawPixels(rgb, depth, viewport, con):
     """Python: rgb (uint8, width*height*3 values, as (height, width, 3) or flat) and
     depth (float32, width*height) are converted when needed, or None; rows from the
@@ -565,6 +704,7 @@ def mjr_drawPixels(rgb, depth, viewport, con):
 
 # ------------------------------------------------------------ string lists
 
+@_p.preparable(None)
 def mju_getXMLDependencies(filename):
     """Python: returns the files as a list of str, as the official bindings; FatalError
     if MuJoCo cannot read the model."""
@@ -629,6 +769,7 @@ def _check_layout():
     return True
 
 
+@_p.preparable(None)
 def mju_getLogConfig():
     """Python: a copy, of the public class mjcffi.MjLogConfig (so it has set())."""
     from .log_config import MjLogConfig     # the hand-written layer: imported on use

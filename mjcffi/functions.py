@@ -10,7 +10,7 @@ signature line, the header's doc comment, then their own notes.
 import functools
 import inspect
 
-from . import _functions, _funcinfo, _overrides
+from . import _functions, _funcinfo, _overrides, _prepared
 
 NAMES = tuple(_funcinfo.FUNCTIONS)
 
@@ -27,11 +27,13 @@ def _document(function, name):
 
 def _returning_mjspec(function):
     """`function`, returning mjcffi.MjSpec (with element lists, compile, delete...)
-    rather than the generated struct class it wraps."""
+    rather than the generated struct class it wraps; its prepare binds the arguments
+    (each call makes a new spec)."""
     @functools.wraps(function)
     def call(*args, **kwargs):
         from .spec import MjSpec        # mjcffi.spec imports this layer
         return MjSpec._of(function(*args, **kwargs))
+    call.prepare = _prepared.Preparer(call, None, True)
     return call
 
 

@@ -72,6 +72,8 @@ SUPPORT = {"_library", "_errors", "_views", "_marshal", "_arena", "_loading", "p
            "_stringtables", "callbacks", "named", "_simsupport", "_modelcheck",
            # not named in the README's list, and importing nothing of the package
            "_aliases", "scenes", "_machine", "_build", "_progress",
+           # prepared calls (issue 25): imports only the standard library
+           "_prepared",
            # what the mjr_* functions check of their OpenGL context (issue 12)
            "_mjr", "structs._checks", "structs._handles",
            "structs._elements", "structs._element_fields", "structs._element_vectors",

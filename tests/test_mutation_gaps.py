@@ -150,11 +150,16 @@ def test_item_mutants_ids_within_range_pass_the_id_check(id_sweep):
 
 
 def test_item_mutants_every_id_of_the_table_is_checked_in_the_generated_code():
+    # the slow path (_F) converts and checks each id; a fast path in F tests its range
     for fname, ids in codegen_functions.IDS.items():
-        source = inspect.getsource(getattr(_functions, fname))
-        for c_name in ids:
+        slow = inspect.getsource(getattr(_functions, "_" + fname))
+        public = inspect.getsource(getattr(_functions, fname))
+        for c_name, (low, _) in ids.items():
             py = _py_name(getattr(_functions, fname), c_name)
-            assert re.search(rf"_m\.index\({py}, ", source), (fname, c_name)
+            assert re.search(rf"_m\.index\({py}, ", slow), (fname, c_name)
+            if "fast = (" in public:
+                assert re.search(rf"{py}\.__class__ is _int\s+and {low} <= {py} < ", public), \
+                    (fname, c_name)
 
 
 # The checks below call MuJoCo with an argument just out of range, which only

@@ -13,6 +13,11 @@ import mjcffi as mujoco
 m = mujoco.MjModel.from_xml_string("<mujoco/>")
 d = mujoco.MjData(m)
 mujoco.mj_step(m, d, nstep=2)
+step = mujoco.mj_step.prepare(m, d, nstep=2)
+step()
+jac = mujoco.mj_jac.prepare(m, d, np.zeros((3, m.nv)), None, np.zeros(3), 0)
+jac()
+body_id: int = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, "world")
 t: float = d.time + m.opt.timestep
 q: np.ndarray = d.qpos
 body: int = mujoco.mjtObj.mjOBJ_BODY
