@@ -35,37 +35,37 @@ SCENE = """
 </mujoco>
 """
 
-# (label, the call in both bindings' namespaces, the guarded C call with C arguments,
-#  whether it takes arrays, the official call where its signature differs)
+# (label, the call in both bindings' namespaces, the guarded C call with {array}
+#  placeholders, whether it takes arrays)
 ROWS = [
     ("mj_step(m, d, 0)", "mj_step(m, d, 0)", "lib.mjcffi_step(cm, cd, 0)", False),
     ("mj_kinematics(m, d)", "mj_kinematics(m, d)", "lib.mjcffi_guard_mj_kinematics(cm, cd)",
      False),
     ("mj_jac(m, d, jacp, jacr, pt, 1)", "mj_jac(m, d, jacp, jacr, pt, 1)",
-     "lib.mjcffi_guard_mj_jac(cm, cd, c_jacp, c_jacr, c_pt, 1)", True),
+     "lib.mjcffi_guard_mj_jac(cm, cd, {jacp}, {jacr}, {pt}, 1)", True),
     ("mj_jacBody(m, d, jacp, jacr, 2)", "mj_jacBody(m, d, jacp, jacr, 2)",
-     "lib.mjcffi_guard_mj_jacBody(cm, cd, c_jacp, c_jacr, 2)", True),
-    ("mj_fullM(m, d, M)", "mj_fullM(m, d, M)", "lib.mjcffi_guard_mj_fullM(cm, cd, c_M)", True),
-    ("mj_mulM(m, d, y, x)", "mj_mulM(m, d, y, x)", "lib.mjcffi_guard_mj_mulM(cm, cd, c_y, c_x)",
+     "lib.mjcffi_guard_mj_jacBody(cm, cd, {jacp}, {jacr}, 2)", True),
+    ("mj_fullM(m, d, M)", "mj_fullM(m, d, M)", "lib.mjcffi_guard_mj_fullM(cm, cd, {M})", True),
+    ("mj_mulM(m, d, y, x)", "mj_mulM(m, d, y, x)", "lib.mjcffi_guard_mj_mulM(cm, cd, {y}, {x})",
      True),
     ("mj_objectVelocity(m, d, 1, 1, v6, 0)", "mj_objectVelocity(m, d, 1, 1, v6, 0)",
-     "lib.mjcffi_guard_mj_objectVelocity(cm, cd, 1, 1, c_v6, 0)", True),
+     "lib.mjcffi_guard_mj_objectVelocity(cm, cd, 1, 1, {v6}, 0)", True),
     ("mj_name2id(m, 1, 'b2')", "mj_name2id(m, 1, 'b2')",
      "lib.mjcffi_guard_mj_name2id(cm, 1, b'b2')", False),
-    ("mju_add3(r, a, b)", "mju_add3(r, a, b)", "lib.mjcffi_guard_mju_add3(c_r, c_a, c_b)", True),
+    ("mju_add3(r, a, b)", "mju_add3(r, a, b)", "lib.mjcffi_guard_mju_add3({r}, {a}, {b})", True),
     ("mju_rotVecQuat(r, a, q)", "mju_rotVecQuat(r, a, q)",
-     "lib.mjcffi_guard_mju_rotVecQuat(c_r, c_a, c_q)", True),
+     "lib.mjcffi_guard_mju_rotVecQuat({r}, {a}, {q})", True),
     ("mju_mulMatVec(y6, A, x6) (6×6)", "mju_mulMatVec(y6, A, x6)",
-     "lib.mjcffi_guard_mju_mulMatVec(c_y6, c_A, c_x6, 6, 6)", True),
-    ("mju_norm3(a)", "mju_norm3(a)", "lib.mjcffi_guard_mju_norm3(c_a)", True),
+     "lib.mjcffi_guard_mju_mulMatVec({y6}, {A}, {x6}, 6, 6)", True),
+    ("mju_norm3(a)", "mju_norm3(a)", "lib.mjcffi_guard_mju_norm3({a})", True),
     ("mj_contactForce(m, d, 0, f6)", "mj_contactForce(m, d, 0, f6)",
-     "lib.mjcffi_guard_mj_contactForce(cm, cd, 0, c_f6)", True),
+     "lib.mjcffi_guard_mj_contactForce(cm, cd, 0, {f6})", True),
     ("mj_solveM(m, d, X, Y) (1 × nv)", "mj_solveM(m, d, X, Y)",
-     "lib.mjcffi_guard_mj_solveM(cm, cd, c_X, c_Y, 1)", True),
+     "lib.mjcffi_guard_mj_solveM(cm, cd, {X}, {Y}, 1)", True),
     ("mju_boxQP(res, R, index, H, g, lo, hi) (n = 3)", "mju_boxQP(res, R, index, H, g, lo, hi)",
-     "lib.mjcffi_guard_mju_boxQP(c_res, c_R, c_index, c_H, c_g, 3, c_lo, c_hi)", True),
+     "lib.mjcffi_guard_mju_boxQP({res}, {R}, {index}, {H}, {g}, 3, {lo}, {hi})", True),
     ("mj_ray(m, d, pnt, vec, None, 1, -1, gid)", "mj_ray(m, d, pnt, vec, None, 1, -1, gid)",
-     "lib.mjcffi_guard_mj_ray(cm, cd, c_pnt, c_vec, ffi.NULL, 1, -1, c_gid, ffi.NULL)", True),
+     "lib.mjcffi_guard_mj_ray(cm, cd, {pnt}, {vec}, ffi.NULL, 1, -1, {gid}, ffi.NULL)", True),
 ]
 
 _ARRAYS = {   # name -> a function of nv making it
@@ -102,11 +102,23 @@ def namespace(module):
 
 
 def c_namespace(space):
-    """The C arguments of `space` (mjcffi's), made once: pointers, from_buffer arrays."""
-    c = {"lib": lib, "ffi": ffi, "cm": space["m"]._ptr, "cd": space["d"]._ptr}
+    """For the C calls of ROWS: mjcffi's model and data pointers, every array as `c_<name>`
+    (its from_buffer made once) and as itself, and its cffi type as `T_<name>`."""
+    c = {"lib": lib, "ffi": ffi, "fb": ffi.from_buffer, "cm": space["m"]._ptr,
+         "cd": space["d"]._ptr}
     for name in _ARRAYS:
-        c["c_" + name] = ffi.from_buffer(_C_TYPES[space[name].dtype], space[name])
+        ctype = ffi.typeof(_C_TYPES[space[name].dtype])
+        c.update({name: space[name], "T_" + name: ctype,
+                  "c_" + name: ffi.from_buffer(ctype, space[name])})
     return c
+
+
+def c_calls(template):
+    """(the C call with its arguments made once, the C call with a from_buffer per array)."""
+    names = [name for name in _ARRAYS if "{" + name + "}" in template]
+    ready = template.format(**{name: "c_" + name for name in names})
+    fresh = template.format(**{name: f"fb(T_{name}, {name})" for name in names})
+    return ready, fresh
 
 
 def prepared_namespace(space):
@@ -119,20 +131,20 @@ def prepared_namespace(space):
 
 
 def measure(rounds=21, calls=20000):
-    """{label: (plain, prepared, official, C alone)} in seconds per call."""
+    """{label: {plain, prepared, official, floor, c}} in seconds per call."""
     ours, theirs = namespace(mjcffi), namespace(mujoco)
-    floor = c_namespace(ours)
+    c_space = c_namespace(ours)
     prepared = prepared_namespace(ours)
     results = {}
     for i, (label, call, c_call, _) in enumerate(ROWS):
-        medians = interleaved({
+        ready, fresh = c_calls(c_call)
+        results[label] = interleaved({
             "plain": per_call(call, ours, calls),
             "prepared": per_call(f"p{i}()", prepared, calls),
             "official": per_call(call, theirs, calls),
-            "floor": per_call(c_call, floor, calls),
+            "floor": per_call(fresh, c_space, calls),
+            "c": per_call(ready, c_space, calls),
         }, rounds)
-        results[label] = (medians["plain"], medians["prepared"], medians["official"],
-                          medians["floor"])
     return results
 
 
@@ -149,30 +161,38 @@ def run(rounds=21, calls=20000):
         "",
         f"A free body resting on a plane with a hinged child (nv = 7, one contact); median "
         f"of {rounds} interleaved rounds of {calls:,} calls each, timed with `timeit`. "
-        "Plain: `mjcffi.F(...)`; prepared: `p = mjcffi.F.prepare(...)` once, then `p()`; "
-        "C alone: the guarded C function called from Python with its C arguments made "
-        "beforehand, which is what cffi itself costs (the floor of any wrapper). Ratios "
-        "are over the official call.",
+        "Plain: `mjcffi.F(...)`. Prepared: `p = mjcffi.F.prepare(...)` once, then `p()`. "
+        "Official: the official bindings' `F(...)`. Floor: the guarded C function called "
+        "straight from Python with an `ffi.from_buffer` made for each array, and no check "
+        "at all: what cffi costs before any wrapper. C alone: the same with every C argument "
+        "made beforehand (what a prepared call cannot go below). Ratios are over the "
+        "official call.",
         "",
-        "| call | plain | prepared | official | C alone | plain ratio | prepared ratio |",
-        "|---|---:|---:|---:|---:|---:|---:|",
+        "| call | plain | prepared | official | floor | C alone | plain ratio | "
+        "prepared ratio | floor ratio |",
+        "|---|---:|---:|---:|---:|---:|---:|---:|---:|",
     ]
-    for label, (plain, prepared, official, floor) in results.items():
-        lines.append(f"| `{label}` | {plain * 1e9:.0f} ns | {prepared * 1e9:.0f} ns | "
-                     f"{official * 1e9:.0f} ns | {floor * 1e9:.0f} ns | "
-                     f"{plain / official:.2f} | {prepared / official:.2f} |")
-    plain = [p / o for p, _, o, _ in results.values()]
-    arrays = [q / o for label, (_, q, o, _) in results.items() if takes_arrays[label]]
-    model_data = [q / o for label, (_, q, o, _) in results.items()
-                  if not takes_arrays[label]]
+    for label, r in results.items():
+        lines.append(
+            f"| `{label}` | {r['plain'] * 1e9:.0f} ns | {r['prepared'] * 1e9:.0f} ns | "
+            f"{r['official'] * 1e9:.0f} ns | {r['floor'] * 1e9:.0f} ns | "
+            f"{r['c'] * 1e9:.0f} ns | {r['plain'] / r['official']:.2f} | "
+            f"{r['prepared'] / r['official']:.2f} | {r['floor'] / r['official']:.2f} |")
+    plain = [r["plain"] / r["official"] for r in results.values()]
+    floor = [r["floor"] / r["official"] for r in results.values()]
+    arrays = [r["prepared"] / r["official"] for label, r in results.items()
+              if takes_arrays[label]]
+    others = [r["prepared"] / r["official"] for label, r in results.items()
+              if not takes_arrays[label]]
     lines += [
         "",
         "| summary | value |",
         "|---|---:|",
         f"| plain calls: geometric mean of the ratios | {_gmean(plain):.2f} |",
         f"| plain calls: highest ratio | {max(plain):.2f} |",
+        f"| floor (no checks): geometric mean of the ratios | {_gmean(floor):.2f} |",
         f"| prepared calls taking arrays: geometric mean | {_gmean(arrays):.2f} |",
         f"| prepared calls taking arrays: highest ratio | {max(arrays):.2f} |",
-        f"| prepared calls without arrays: highest ratio | {max(model_data):.2f} |",
+        f"| prepared calls without arrays: highest ratio | {max(others):.2f} |",
     ]
     return lines

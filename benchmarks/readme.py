@@ -70,6 +70,14 @@ def figures(results):
         "spec_build": _float(_row(rows, "`build(module).compile()`")[3]),
         "spec_attrs": sorted(_float(_row(rows, f"`{s}`")[3]) for s in _SPEC_ATTRIBUTES),
         "spec_name": _float(_row(rows, "`g.name`")[3]),
+        "calls_plain": _float(_row(rows, "plain calls: geometric mean of the ratios")[1]),
+        "calls_plain_max": _float(_row(rows, "plain calls: highest ratio")[1]),
+        "calls_floor": _float(_row(rows, "floor (no checks): geometric mean of the ratios")[1]),
+        "calls_prepared": _float(_row(rows, "prepared calls taking arrays: geometric mean")[1]),
+        "calls_prepared_max": _float(_row(rows, "prepared calls taking arrays: highest ratio")[1]),
+        "name2id": _float(_row(rows, "`mj_name2id(m, 1, 'b2')`")[6]),
+        "jac_plain": _float(_row(rows, "`mj_jac(m, d, jacp, jacr, pt, 1)`")[6]),
+        "jac_prepared": _float(_row(rows, "`mj_jac(m, d, jacp, jacr, pt, 1)`")[7]),
     }
 
 
@@ -110,11 +118,21 @@ def headline(f):
         _bullet(f"They are faster where the call itself dominates: {f['short_rollout']:.2f} "
                 f"on short rollouts with 2 threads.", 1),
         _bullet(f"The humanoid rollout scales {f['scaling']} from 1 to 2 threads.", 1),
+        _bullet(f"**Function calls: slower plain, faster prepared.** Over 16 common calls, a "
+                f"plain call costs {f['calls_plain']:.2f}× the official one (geometric mean; "
+                f"up to {f['calls_plain_max']:.2f}×, `mj_jac` {f['jac_plain']:.2f}×). The "
+                f"guarded cffi call alone, with a `from_buffer` per array and no check, "
+                f"already costs {f['calls_floor']:.2f}×; mjcffi's checks of each array "
+                f"(class, dtype, shape, layout), of ids and of the model/data pair add the "
+                f"rest. A prepared call (`p = mjcffi.mj_jac.prepare(...)`, then `p()`) of a "
+                f"function that takes arrays costs {f['calls_prepared']:.2f}× the official "
+                f"call (up to {f['calls_prepared_max']:.2f}×; `mj_jac` "
+                f"{f['jac_prepared']:.2f}×), and a repeated `mj_name2id` {f['name2id']:.2f}×."),
     ])
 
 
 def per_call(f):
-    return _bullet(
+    return "\n".join([_bullet(
         f"**Per-call cost.** `mj_step(m, d, 0)`, which runs no physics and so measures the "
         f"call alone, took {f['step0_ratio']:.2f}× as long as the official call "
         f"({f['date']}): {f['step0_extra_ns']:.0f} ns more. Part of it is the guard that "
@@ -122,7 +140,13 @@ def per_call(f):
         f"(about 20 ns), and part is that a Python function around a cffi "
         f"call cannot be as cheap as one pybind11 call. On a one-hinge pendulum this made a "
         f"step {_percent(f['pendulum_step'])} slower, and {_percent(f['default_step'])} on "
-        f"the default scene. Use `nstep` to loop in C.")
+        f"the default scene. Use `nstep` to loop in C."), _bullet(
+        f"**Plain function calls** cost {f['calls_plain']:.2f}× the official ones (geometric "
+        f"mean of 16 common calls, up to {f['calls_plain_max']:.2f}×). The guarded cffi call "
+        f"with a `from_buffer` per array and no check already costs {f['calls_floor']:.2f}×; "
+        f"the checks of exact arrays (class, dtype, shape, layout) and of ids add the rest. "
+        f"In a loop that repeats a call, prepare it: {f['calls_prepared']:.2f}× for the "
+        f"calls that take arrays (up to {f['calls_prepared_max']:.2f}×).")])
 
 
 def spec_speed(f):

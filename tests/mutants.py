@@ -195,6 +195,33 @@ MUTANTS = [
         ("codegen/named.py", 'PLASTIC = {"jnt": "jnt_plasticadr", "tendon": "tendon_plasticadr"}',
          'PLASTIC = {"jnt": "jnt_plasticadr"}'),
         ["tests/test_named_plastic.py", "tests/test_named.py"], regenerate=True),
+    # -- the fast paths and prepared calls (issue 25)
+    _mutant(
+        "fastpath_output_layout", "a fast path takes a read-only or misaligned output",
+        ("codegen/fastpath.py", 'test.append(f"{a.py}.flags.carray")', "pass"),
+        ["tests/test_fast_path.py"], regenerate=True),
+    _mutant(
+        "fastpath_id_bound", "a fast path lets an id equal to its count through",
+        ("codegen/fastpath.py", 'f"{low} <= {py} < {limit}"', 'f"{low} <= {py} <= {limit}"'),
+        ["tests/test_fast_path.py"], regenerate=True),
+    _mutant(
+        "fastpath_shape", "a fast path checks a vector's size, not its shape",
+        ("codegen/fastpath.py", 'test.append(f"{a.py}.shape == {shape}")',
+         'test.append(f"{a.py}.size == ({shape}[0] if len({shape}) == 1 else '
+         '{shape}[0] * {shape}[1])")'),
+        ["tests/test_fast_path.py"], regenerate=True),
+    _mutant(
+        "prepare_copies_inputs", "prepare binds a converted copy of an input",
+        ("mjcffi/_marshal.py", "    if live and value is not given", "    if False and live"),
+        ["tests/test_prepared.py"]),
+    _mutant(
+        "prepare_never_rechecks", "a prepared call skips the checks of what can change",
+        ("mjcffi/_prepared.py", "            if self._recheck:", "            if False:"),
+        ["tests/test_prepared.py"]),
+    _mutant(
+        "name2id_memo_keys_floats", "mj_name2id's memo answers a float type",
+        ("mjcffi/_overrides.py", "_OBJECT_TYPES = (int, mjtObj)", "_OBJECT_TYPES = (int, mjtObj, float)"),
+        ["tests/test_prepared.py"]),
 ]
 
 
