@@ -25,7 +25,6 @@ of it runs the plain function again, checks and all (`Prepared.rechecks`).
 Support module: imports only the standard library.
 """
 
-import functools
 import inspect
 import reprlib
 from typing import Any, Callable, Generic, ParamSpec, Protocol, TypeVar
@@ -36,24 +35,19 @@ R = TypeVar("R")
 __all__ = ["Prepared", "Preparer", "Function", "preparable"]
 
 
-class Prepared(functools.partial):
-    """A MuJoCo call with its arguments checked and converted: call it with no
-    arguments.  `function` is the function, `arguments` its arguments by name
-    (kept alive here), `rechecks` whether each call runs the function's checks
-    again (see mjcffi/_prepared.py)."""
+class Prepared(Protocol[R]):
+    """A prepared call (what `F.prepare(...)` returns): call it with no arguments.
 
-    function: Callable[..., Any]
+    It is the call itself, a plain function, so that calling it costs one Python call
+    and the guarded C call.  `function` is F, `arguments` its arguments by name (kept
+    alive here), `rechecks` whether each call runs F's checks again (see this module's
+    docstring); its repr names F and the arguments."""
+
+    function: Callable[..., R]
     arguments: dict
     rechecks: bool
 
-    def __repr__(self):
-        args = ", ".join(f"{name}={_describe(value)}" for name, value in self.arguments.items())
-        again = ", rechecked" if self.rechecks else ""
-        return f"<prepared {self.function.__name__}({args}){again}>"
-
-    def __reduce__(self):
-        raise TypeError(f"a prepared {self.function.__name__} call cannot be pickled: it "
-                        f"holds C pointers; pickle its arguments and prepare it again")
+    def __call__(self) -> R: ...
 
 
 def _describe(value):
@@ -85,26 +79,29 @@ class Preparer(Generic[P, R]):
         self._unsupported = unsupported
         self._signature = None
 
-    def __call__(self, *args: P.args, **kwargs: P.kwargs) -> Prepared:
-        signature = self.__signature__
+    def __call__(self, *args: P.args, **kwargs: P.kwargs) -> Prepared[R]:
+        function = self.function
         try:
-            bound = signature.bind(*args, **kwargs)
+            bound = self.__signature__.bind(*args, **kwargs)
         except TypeError as exc:
-            raise TypeError(f"{self.function.__name__}.prepare(): {exc}") from None
+            raise TypeError(f"{function.__name__}.prepare(): {exc}") from None
         if self._unsupported is not None:
-            raise NotImplementedError(f"{self.function.__name__}: {self._unsupported}")
-        if self._marshal is None:
-            call = functools.partial(self.function, *args, **kwargs)
-        else:
+            raise NotImplementedError(f"{function.__name__}: {self._unsupported}")
+        if self._marshal is not None:
             call = self._marshal(*args, prepare=True, **kwargs)   # raises what F would
-            if self._recheck:
-                call = functools.partial(self.function, *args, **kwargs)
-        prepared = Prepared(call)
-        prepared.function = self.function
+        if self._marshal is None or self._recheck:
+            def call():
+                return function(*args, **kwargs)
         bound.apply_defaults()
-        prepared.arguments = dict(bound.arguments)
-        prepared.rechecks = self._recheck
-        return prepared
+        call.function = function
+        call.arguments = dict(bound.arguments)
+        call.rechecks = self._recheck
+        described = ", ".join(f"{name}={_describe(value)}"
+                              for name, value in call.arguments.items())
+        again = " (rechecked)" if self._recheck else ""
+        call.__name__ = call.__qualname__ = f"{function.__name__}.prepare({described}){again}"
+        call.__doc__ = Prepared.__doc__
+        return call
 
     @property
     def __signature__(self):
