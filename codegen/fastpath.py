@@ -15,7 +15,7 @@ the public `F(args)`, which begins with the fast path written here:
         fast = False
     if fast:
         <the guarded call, then the checks of its result>
-    return _F(args)()
+    return _F(args)
 
 The tests take the common case only: exact ndarrays of the right dtype and shape
 (outputs also C-contiguous, aligned and writable: `flags.carray`; inputs must be
@@ -85,6 +85,12 @@ class FastPath:
         product = re.fullmatch(r"(\w+)\s*\*\s*\((\w+)\s*\+\s*(\d+)\)", dim)   # n*(n+7)
         if product and product.group(1) in self.w.sizes and product.group(2) in self.w.sizes:
             return f"{product.group(1)} * ({product.group(2)} + {product.group(3)})"
+        if re.fullmatch(r"(state_size|band_size)\(.*\)", dim):
+            # a helper's size (mj_stateSize): computed in the setup, where its error (a bad
+            # signature) sends the call down the slow path, which raises it
+            local = f"size_{len(self.setup)}"
+            self.setup.append(f"{local} = {self.w.expr(dim)}")
+            return local
         return None
 
     def _binders(self):

@@ -697,14 +697,15 @@ _ELEMS = {"mjtNum": "NUM", "double": "NUM", "float": "FLOAT", "int": "INT",
 
 _HEAD = '''"""MuJoCo's functions, one Python function each, with the official bindings' signatures.
 
-Each function F comes in two parts.  `_F(args)` checks and converts the
-arguments with mjcffi/_marshal.py (see its docstring for the rules) and returns
-the call, ready to make, of the guarded C twin `lib.mjcffi_guard_F`, so that a
-mju_error raises mjcffi.FatalError.  `F(args)` first tries its fast path, where
-one exists: exact NumPy arrays of the right dtype, layout and shape, ids in
-range, tested inline and passed straight to C; anything else, or anything the
-fast path is unsure of, goes to `_F(args)()`, with its conversions and its
-messages.  `F.prepare(args)` keeps what `_F` made (mjcffi/_prepared.py).
+Each function F comes in three parts.  `_F(args)`, the slow path, checks and
+converts the arguments with mjcffi/_marshal.py (see its docstring for the rules)
+and calls the guarded C twin `lib.mjcffi_guard_F`, so that a mju_error raises
+mjcffi.FatalError.  `F(args)` first tries its fast path, where one exists:
+exact NumPy arrays of the right dtype, layout and shape, ids in range, tested
+inline and passed straight to C; anything else, or anything the fast path is
+unsure of, goes to `_F(args)`, with its conversions and its messages.
+`F.prepare(args)` runs `_F(args, prepare=True)`, which hands what it converted
+to `_bind_F`: the guarded call, ready to make (mjcffi/_prepared.py).
 Sizes such as mju_add's `n` are deduced from the arrays.  `lib.<name>` is the
 raw C function.
 """
@@ -1031,13 +1032,14 @@ class _Function:
         emitted), returning the guarded call."""
         head = _signature(params)
         head = f"def _{self.name}({head + ', ' if head else ''}*, prepare=False):"
-        doc = (f'    """The checks and conversions of {self.name}(); returns its guarded '
-               f'C call, ready to make.\n\n    prepare: for {self.name}.prepare, which '
-               f'refuses inputs it would copy and checks scalars now."""')
+        doc = (f'    """{self.name}() through its checks and conversions: the slow path.'
+               f'\n\n    prepare: for {self.name}.prepare, which refuses inputs it would '
+               f'copy, checks scalars now,\n    and returns the guarded call, ready to '
+               f'make."""')
         return "\n".join([head, doc] + self.lines)
 
     def public_block(self, params):
-        """`F(args)`: its docstring, its fast path if it has one, then `_F(args)()`."""
+        """`F(args)`: its docstring, its fast path if it has one, then `_F(args)`."""
         recheck = ", recheck=True" if self.rechecks else ""
         lines = [f"@_p.preparable(_{self.name}{recheck})",
                  f"def {self.name}({_signature(params)}):",
@@ -1045,7 +1047,7 @@ class _Function:
         fast = FastPath(self).lines()
         self.has_fast_path = fast is not None
         lines += ["    " + line if line else "" for line in fast or ()]
-        lines.append(f"    return _{self.name}({', '.join(py for py, _ in params)})()")
+        lines.append(f"    return _{self.name}({', '.join(py for py, _ in params)})")
         return "\n".join(lines)
 
     def signature_line(self, params):
@@ -1235,7 +1237,8 @@ class _Function:
                 self.emit(f'c_{a.py} = _m.struct_value({a.py}, "{a.base}", "{a.py}")')
             elif a.kind == "struct":
                 conv = "opt_struct" if a.nullable else "struct"
-                self.rechecks.append(f"{a.py}'s wrapper may be given new memory")
+                if a.base not in ("mjModel", "mjData"):      # those keep their memory
+                    self.rechecks.append(f"{a.py}'s wrapper may be given new memory")
                 self.emit(f'c_{a.py} = _m.{conv}({a.py}, "{a.base}", "{a.py}")')
 
     def _arrays(self, sizes):
@@ -1360,32 +1363,61 @@ class _Function:
         return values, scalars
 
     def _call(self, errors, omit):
-        """The end of `_F`: the guarded call, as a closure over what was converted."""
+        """The end of `_F`: the guarded call, made now; or, for F.prepare, `_bind_F(...)`,
+        the call ready to make.  The closure lives in `_bind_F`, so that `_F` itself has
+        no cell variables, which would cost every plain call of it."""
         values, scalars = self.call_values(errors, omit)
         entries = [f'"{a.py}": ("{a.decl}", {a.py})' for a in scalars]
+        body = self._call_body("guard", values, scalars, entries, "        ")
+        self.bound_names = self._locals_read(body)
+        self.emit("if prepare:")
         if scalars:
-            self.emit("if prepare:")
             self.emit("    " + _wrapped(f'_m.check_scalars("{self.name}", {{', entries, "})",
                                         "        "))
-        self.emit(f"guard = _lib.mjcffi_guard_{self.name}")
-        self.emit("")
-        self.emit("def call():")
-        body = []
-        if errors:
-            body.append("error, error_sz = _m.error_buffer()")
+        self.emit("    " + _wrapped(f"return _bind_{self.name}(", self.bound_names, ")",
+                                    "    "))
+        for line in self._call_body(f"_lib.mjcffi_guard_{self.name}", values, scalars,
+                                    entries, "    "):
+            self.emit(line)
+        self.bind_body = body
+
+    def _locals_read(self, body):
+        """The names of `_F`'s locals (arguments, converted values, sizes) that `body` reads."""
+        text = "\n".join(body)
+        candidates = []
+        for a in self.args:
+            if a.name in self.errors:           # the error buffer is made at each call
+                continue
+            candidates += [a.py, f"c_{a.py}", f"nbytes_{a.py}", f"limit_{a.py}"]
+        candidates += sorted(self.sizes)
+        found = []
+        for name in candidates:
+            if name not in found and re.search(rf"(?<![\w.]){re.escape(name)}\b", text):
+                found.append(name)
+        return found
+
+    def bind_block(self):
+        """`_bind_F(...)`: the guarded call over what `_F` converted, as a closure."""
+        head = _wrapped(f"def _bind_{self.name}(", self.bound_names, "):", "")
+        doc = (f'    """The guarded call of {self.name} with these converted arguments, ready '
+               f'to make\n    ({self.name}.prepare)."""')
+        lines = [head, doc, f"    guard = _lib.mjcffi_guard_{self.name}", "", "    def call():"]
+        lines += ["        " + line if line else "" for line in self.bind_body]
+        return "\n".join(lines + ["    return call"])
+
+    def _call_body(self, guard, values, scalars, entries, indent):
+        """The guarded call through `guard` and what follows it (see ending)."""
+        body = ["error, error_sz = _m.error_buffer()"] if self.errors else []
         void = self.func.restype.decl == "void"
-        call = _wrapped(f"{'status' if void else 'ret'} = guard(", values, ")",
-                        "            " if scalars else "        ")
+        call = _wrapped(f"{'status' if void else 'ret'} = {guard}(", values, ")",
+                        indent + ("    " if scalars else ""))
         if scalars:
             body += ["try:", "    " + call, "except (TypeError, OverflowError) as exc:",
                      "    " + _wrapped(f'raise _m.scalar_error(exc, "{self.name}", {{',
-                                       entries, "}) from None", "            ")]
+                                       entries, "}) from None", indent + "    ")]
         else:
             body.append(call)
-        body += self.ending()
-        for line in body:
-            self.emit("    " + line if line else "")
-        self.emit("return call")
+        return body + self.ending()
 
     def ending(self):
         """The lines after `status = ...` or `ret = ...`: the error checks, the result."""
@@ -1504,6 +1536,7 @@ def generate(decls, notes, described, header_texts):
         if reason:
             raise ValueError(f"{name}: {reason}; add it to SHAPES, OVERRIDES or UNSUPPORTED")
         params = writer.write()
+        blocks.append(writer.bind_block())
         blocks.append(writer.marshal_block(params))
         blocks.append(writer.public_block(params))
         FAST_PATHS[name] = writer.has_fast_path

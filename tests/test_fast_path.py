@@ -2,8 +2,8 @@
 
 A generated function F tests its arguments inline and calls C directly when
 they are exact (codegen/fastpath.py); anything else goes to `_F(args)()`, the
-slow path, with its conversions and messages.  So for every call, F and the
-slow path alone must do the same thing: the same exception with the same
+slow path, with its conversions and messages.  So for every call, F and `_F`
+(the slow path alone) must do the same thing: the same exception with the same
 message, or the same outputs, bit for bit.  The sweep checks that on every
 function with a fast path, for its valid call and for every variation of each
 array (short, long, transposed, flat, (k, 1), 3-D, another dtype, strided,
@@ -184,8 +184,8 @@ def _sweep():
             originals = {py: np.array(v) for py, v in kwargs.items()
                          if isinstance(v, np.ndarray) and not _plain(v)}
             fast = _run(public, _fresh(kwargs, where, originals))
-            reference = _run(lambda **kw: slow(**kw)(), _fresh(kwargs, where, originals))
-            again = _run(lambda **kw: slow(**kw)(), _fresh(kwargs, where, originals))
+            reference = _run(slow, _fresh(kwargs, where, originals))
+            again = _run(slow, _fresh(kwargs, where, originals))
             cases += 1
             if name in NONDETERMINISTIC or reference != again:   # MuJoCo's own variation
                 fast, reference = fast[:1], reference[:1]
