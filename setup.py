@@ -9,7 +9,7 @@ cffi_modules has no pyproject.toml spelling, and two wheel properties need code:
 - a Python built with `-Wl,-rpath,<its prefix>/lib` in LDSHARED (pyenv's are)
   passes that path on to every extension; in a wheel it names a folder of the
   build machine, so it is dropped.  The module's own rpath into the mujoco-core
-  wheel ($ORIGIN/../mujoco, from mjcffi/_build.py) is relative and stays.
+  wheel ($ORIGIN/../mujoco, from mjcffi/_c/build.py) is relative and stays.
 """
 
 import os
@@ -48,6 +48,6 @@ def wheel_options():
     return {"bdist_wheel": {"py_limited_api": OLDEST_PYTHON}}
 
 
-setup(cffi_modules=["mjcffi/_build.py:ffibuilder"],
+setup(cffi_modules=["mjcffi/_c/build.py:ffibuilder"],
       cmdclass={"build_ext": BuildExtension},
       options=wheel_options())

@@ -164,7 +164,7 @@ def measure_pool(rounds, batch, repeats):
     import numpy as np
 
     from benchmarks.common import interleaved
-    from mjcffi.rendering._simrenderpool import MjRenderPool
+    from mjcffi.sim.mjrenderpool import MjRenderPool
     from mjcffi.sim import MjSim, load_model_from_path
     width, height = POOL_SIZE
     sim = MjSim(load_model_from_path(_pool_model_path()))

@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 import mjcffi
-from mjcffi._overrides import mj_step
+from mjcffi.functions._overrides import mj_step
 from mjcffi.sim import MjSim, MjSimPool, load_model_from_path
 
 from .bench_rollout import _humanoid_path, _rate

@@ -13,7 +13,7 @@ import pathlib
 from . import (bench_batch, bench_calls, bench_distributed, bench_import, bench_named,
                bench_nstep, bench_render, bench_rollout, bench_sim, bench_spec, bench_step,
                bench_structs, bench_tune, readme)
-from mjcffi._machine import environment
+from mjcffi._support.machine import environment
 
 RESULTS = pathlib.Path(__file__).resolve().parent / "RESULTS.md"
 

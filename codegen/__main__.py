@@ -22,11 +22,12 @@ def generate():
     known = {name: value for enum in decls.enums.values() for name, value in enum.members}
     described = fields.describe(decls, notes, extents.from_xmacros(known), known)
     return {
-        "mjcffi/_cdef.h": outputs.cdef(text),
-        "mjcffi/_enums.py": outputs.enums(decls),
-        "mjcffi/_constants.py": outputs.constants(header_texts, headers.macro_values()),
-        "mjcffi/_structinfo.py": outputs.struct_info(described),
-        "mjcffi/_funcinfo.py": outputs.function_info(decls, notes),
+        "mjcffi/_c/generated/cdef.h": outputs.cdef(text),
+        "mjcffi/_generated/enums.py": outputs.enums(decls),
+        "mjcffi/_generated/constants.py": outputs.constants(header_texts, headers.macro_values()),
+        "mjcffi/_generated/structinfo.py": outputs.struct_info(described),
+        "mjcffi/_generated/funcinfo.py": outputs.function_info(decls, notes),
+        **outputs.generated_package(),
         **guards.generate(decls.functions),
         **structs.generate(described, decls, header_texts, notes),
         **functions.generate(decls, notes, described, header_texts),

@@ -1,7 +1,7 @@
 """The fast path of a generated function: one test per argument, then the C call.
 
 codegen/functions.py writes each function F as `_F(args)`, which checks and
-converts every argument (mjcffi/_marshal.py) and returns the guarded call, and
+converts every argument (mjcffi/_support/marshal.py) and returns the guarded call, and
 the public `F(args)`, which begins with the fast path written here:
 
     try:

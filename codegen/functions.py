@@ -1,6 +1,6 @@
 """Write mjcffi/_functions.py: one Python function per function of mujoco.h and mjbatch.h.
 
-Each function converts its arguments with mjcffi/_marshal.py, calls the
+Each function converts its arguments with mjcffi/_support/marshal.py, calls the
 guarded twin `lib.mjcffi_guard_F` (so that mju_error raises FatalError) and
 converts the result.  The rules are generic, driven by the C declaration and
 the header's `Nullable:` notes:
@@ -13,7 +13,7 @@ the header's `Nullable:` notes:
   leave the Python signature, as in the official bindings (mju_add(res, vec1,
   vec2)); `(char* error, int error_sz)` pairs leave it too (ERRORS);
 - a function whose arguments the rules cannot express safely must have an
-  entry in OVERRIDES (hand-written in mjcffi/_overrides.py) or UNSUPPORTED
+  entry in OVERRIDES (hand-written in mjcffi/functions/_overrides.py) or UNSUPPORTED
   (it raises NotImplementedError); codegen fails otherwise.
 
 The tables below are the only special cases.
@@ -36,7 +36,7 @@ from .structs import class_name
 # argument of the function (deduced from the first array that has it alone,
 # or K*it, in its dims, then left out of the Python signature unless listed in
 # KEEP), or a Python expression over the arguments: `m.nv` reads the model,
-# `state_size(m, sig)` calls a helper of mjcffi/_marshal.py.  "*": any size
+# `state_size(m, sig)` calls a helper of mjcffi/_support/marshal.py.  "*": any size
 # (checked by a CHECKS entry).  For `void *` and `char *` buffers the dim is
 # the byte count.
 SHAPES = {
@@ -360,7 +360,7 @@ ENUM_INTS = {
     ("mjr_label", "font"): "mjtFont",
 }
 
-# The mjr_* functions that draw with OpenGL (mjcffi/_mjr.py): the mjrContext they take
+# The mjr_* functions that draw with OpenGL (mjcffi/_support/mjr.py): the mjrContext they take
 # must have been made, not freed, in the OpenGL context current on this thread; those
 # without one need some context current and MuJoCo's OpenGL functions loaded.  Checked
 # after every argument.  The others of mjr_* make no OpenGL call.
@@ -375,7 +375,7 @@ def draws(name):
 
 # Functions that write a model's flexes and skins into the buffers of their
 # mjvScene, or read them (MuJoCo does neither check): the scene must have been made
-# for a model of that flex and skin layout (mjcffi/structs/_checks.py, scene), or
+# for a model of that flex and skin layout (mjcffi/_support/checks.py, scene), or
 # MuJoCo writes past its buffers.  Function -> what it does with them.
 SCENES = {
     "mjv_updateScene": "writes flex vertices and faces, and skin vertices and normals",
@@ -492,7 +492,7 @@ def fast_path_functions():
     return sorted(name for name, fast in FAST_PATHS.items() if fast)
 
 # Further checks before the call: statements over the converted arguments,
-# calling helpers of mjcffi/_marshal.py.
+# calling helpers of mjcffi/_support/marshal.py.
 CHECKS = {
     "mju_printMatSparse": ["csr(rownnz, rowadr, colind, min(mat.size, colind.size), None)"],
     "mju_sparse2dense": ["csr(rownnz, rowadr, colind, min(mat.size, colind.size), nc)"],
@@ -510,7 +510,7 @@ CHECKS = {
     "mju_Halton": ["index(base, 2 ** 31, 'base', 2)"],     # it divides by base, loops on 1
     # mjOBJ_UNKNOWN throws a C++ exception through the C API: the process aborts
     "mjs_firstElement": ["require(type != 0, 'type must not be mjOBJ_UNKNOWN')"],
-    # the renderer (mjcffi/_mjr.py): what MuJoCo follows in the scene, figure and text
+    # the renderer (mjcffi/_support/mjr.py): what MuJoCo follows in the scene, figure and text
     "mjr_render": ["render_scene(@scn, scn, @con, con)"],
     "mjr_figure": ["figure_fields(fig)"],
     "mjr_text": ["ascii_text(c_txt, 'txt')"],
@@ -585,7 +585,7 @@ NOT_NULLABLE = {
                       for name in ("geomid", "flexid", "skinid")}},
 }
 
-# Hand-written in mjcffi/_overrides.py: the documented Python signature
+# Hand-written in mjcffi/functions/_overrides.py: the documented Python signature
 # differs from C's, or the result is an MjModel/MjData (hand-written classes).
 OVERRIDES = {
     "mj_step": "nstep=1 repeats the step in C, under one guard (python.rst); warnings as errors",
@@ -604,7 +604,7 @@ OVERRIDES = {
     "mj_printSchema": "mj_printSchema(flg_html, flg_pad) returns str, as the official bindings",
     "mjs_getDouble": "returns a NumPy copy of the vector",
     "mjr_findRect": "rect is one MjrRect or a sequence of them",
-    "mjr_makeContext": "makes con in the current OpenGL context and records it (mjcffi/_mjr.py)",
+    "mjr_makeContext": "makes con in the current OpenGL context and records it (mjcffi/_support/mjr.py)",
     "mjr_freeContext": "frees con as MjrContext.free() does: OpenGL objects only in their "
                        "own context",
     "mjr_readPixels": "rgb and depth: output arrays of at least the viewport's pixels (any "
@@ -625,12 +625,12 @@ OVERRIDES = {
     "mj_deleteFileVFS": "it unmounts a provider at that path too: the VFS lets go of it",
     "mju_malloc": "records the pointer, which only mju_free frees",
     "mju_free": "frees only what mju_malloc returned, once",
-    # MuJoCo's UI (mjcffi/_mjui.py): the mjUI keeps pointers to the values its items edit
+    # MuJoCo's UI (mjcffi/functions/_mjui.py): the mjUI keeps pointers to the values its items edit
     "mjui_add": "takes a sequence of definitions, ended with mjITEM_END for MuJoCo; each "
-                "pdata buffer is checked and kept alive by the MjUI (mjcffi/_mjui.py)",
+                "pdata buffer is checked and kept alive by the MjUI (mjcffi/functions/_mjui.py)",
     "mjui_addToSection": "as mjui_add, into a section the UI has",
     **{name: "checks the mjUI's items, indices and kept buffers, and that con was made in "
-             "the current OpenGL context, before MuJoCo runs (mjcffi/_mjui.py)"
+             "the current OpenGL context, before MuJoCo runs (mjcffi/functions/_mjui.py)"
        for name in ("mjui_resize", "mjui_update", "mjui_event", "mjui_render")},
 }
 
@@ -683,42 +683,42 @@ UNSUPPORTED = {
         "mjb_nthread", "mjb_persistent", "mjb_model")},
 }
 
-# Helpers of mjcffi/_marshal.py that SHAPES, CHECKS and RETURNS may call.
+# Helpers of mjcffi/_support/marshal.py that SHAPES, CHECKS and RETURNS may call.
 _HELPERS = ("state_size", "band_size", "csr", "below", "require", "object_id", "index",
             "copy_array", "fill", "camera", "model_of", "NULL", "NUM", "count")
 
-# Helpers of mjcffi/_mjr.py (the renderer's checks) that CHECKS may call.
+# Helpers of mjcffi/_support/mjr.py (the renderer's checks) that CHECKS may call.
 _RENDER_HELPERS = ("render_scene", "figure_fields", "ascii_text", "overlay_text", "same_model",
                    "rect_fits")
 
-# C element type of a numeric array -> its Elem in mjcffi/_marshal.py.
+# C element type of a numeric array -> its Elem in mjcffi/_support/marshal.py.
 _ELEMS = {"mjtNum": "NUM", "double": "NUM", "float": "FLOAT", "int": "INT",
           "mjtByte": "BYTE", "unsigned char": "BYTE", "mjtSize": "SIZE", "mjtBool": "BOOL"}
 
 _HEAD = '''"""MuJoCo's functions, one Python function each, with the official bindings' signatures.
 
 Each function F comes in three parts.  `_F(args)`, the slow path, checks and
-converts the arguments with mjcffi/_marshal.py (see its docstring for the rules)
+converts the arguments with mjcffi/_support/marshal.py (see its docstring for the rules)
 and calls the guarded C twin `lib.mjcffi_guard_F`, so that a mju_error raises
 mjcffi.FatalError.  `F(args)` first tries its fast path, where one exists:
 exact NumPy arrays of the right dtype, layout and shape, ids in range, tested
 inline and passed straight to C; anything else, or anything the fast path is
 unsure of, goes to `_F(args)`, with its conversions and its messages.
 `F.prepare(args)` runs `_F(args, prepare=True)`, which hands what it converted
-to `_bind_F`: the guarded call, ready to make (mjcffi/_prepared.py).
+to `_bind_F`: the guarded call, ready to make (mjcffi/_support/prepared.py).
 Sizes such as mju_add's `n` are deduced from the arrays.  `lib.<name>` is the
 raw C function.
 """
 
-from . import _marshal as _m
-from . import _mjr as _r
-from . import _prepared as _p
-from . import callbacks as _cb
 from . import structs as _structs
-from ._library import lib as _lib
-from .structs import _checks as _c
-from .structs import _handles as _h
-from ._arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private helpers)
+from ._support import contract as _contract
+from ._support import checks as _c
+from ._support import handles as _h
+from ._support import marshal as _m
+from ._support import mjr as _r
+from ._support import prepared as _p
+from ._support.arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private)
+from ._support.library import lib as _lib
 
 # what the fast paths test and convert with, bound once (and the builtins they use under
 # names no argument can shadow: mju_str2Type's argument is `str`)
@@ -779,12 +779,12 @@ def _classify(arg, described, typedefs):
 
 def _is_handle(base, typedefs):
     """A type mjspec.h declares as `void` (mjString, mjDoubleVec, ...): a typed handle
-    of mjcffi/structs/_handles.py."""
+    of mjcffi/_support/handles.py."""
     return typedefs.get(base, "").strip() == "void"
 
 
 def _handle_class(base):
-    """'mjString' -> 'MjStringHandle', its class in mjcffi/structs/_handles.py."""
+    """'mjString' -> 'MjStringHandle', its class in mjcffi/_support/handles.py."""
     return "Mj" + base[2:] + "Handle"
 
 
@@ -916,7 +916,7 @@ def _annotation(a, typedefs):
     elif a.kind in ("buffer", "chars"):
         text = "bytes" if a.const else "bytearray"
     elif a.kind == "handle":
-        text = f"mjcffi.structs._handles.{_handle_class(a.base)}"
+        text = f"mjcffi._support.handles.{_handle_class(a.base)}"
     else:
         text = "Any"
     return text + (" | None" if a.nullable else "")
@@ -1077,7 +1077,7 @@ class _Function:
         if ret.base in self.described:
             return f"mujoco._structs.{class_name(ret.base)}"
         if ret.pointer == 1 and _is_handle(ret.base, self.typedefs):
-            return f"mjcffi.structs._handles.{_handle_class(ret.base)}"
+            return f"mjcffi._support.handles.{_handle_class(ret.base)}"
         return "Any"
 
     # ------------------------------------------------------------ body
@@ -1154,7 +1154,7 @@ class _Function:
         return params
 
     def _opengl_check(self):
-        """The mjrContext was made, in the OpenGL context current now (mjcffi/_mjr.py);
+        """The mjrContext was made, in the OpenGL context current now (mjcffi/_support/mjr.py);
         without one, some context is current.  When it fails, a wrong scalar (which only
         the call itself converts) is named instead."""
         con = next((a for a in self.args if a.kind == "struct" and a.base == "mjrContext"),
@@ -1423,11 +1423,11 @@ class _Function:
         """The lines after `status = ...` or `ret = ...`: the error checks, the result."""
         ret = self.func.restype
         if ret.decl == "void":
-            return ["if status or _cb._pending:", "    _m.check(status)"]
+            return ["if status or _contract.pending:", "    _m.check(status)"]
         if ret.pointer == 0 and ret.base in self.described:
             lines = ["_m.check_error()"]          # a struct returned by value: no zero test
         else:                                     # a guard returns zero on an error
-            lines = ["if not ret or _cb._pending:", "    _m.check_error()"]
+            lines = ["if not ret or _contract.pending:", "    _m.check_error()"]
         if self.name in ERRORS:
             test, exc, returns = ERRORS[self.name]
             exc = "_m.FatalError" if exc == "FatalError" else exc
@@ -1525,7 +1525,7 @@ def generate(decls, notes, described, header_texts):
     blocks = []
     for name, func in decls.functions.items():
         note = notes.functions.get(name)
-        if name in OVERRIDES:          # hand-written: mjcffi/functions.py puts it in place
+        if name in OVERRIDES:          # hand-written: mjcffi/functions/__init__.py puts it in place
             continue
         if name in UNSUPPORTED:
             blocks.append(_unsupported(func, note, UNSUPPORTED[name], described,

@@ -1,14 +1,14 @@
-"""Render mjcffi/_guards.h and mjcffi/_guards.c: one guarded call per MuJoCo function.
+"""Render mjcffi/_c/generated/guards.h and guards.c: one guarded call per MuJoCo function.
 
 `mjcffi_guard_F` calls F with a setjmp target armed, so that mju_error inside
 F returns to the caller instead of exiting the process.  A void F gets an int
 guard (0: ok, 1: error caught); any other F a guard of the same return type
 that returns the zero value on a caught error.  Either way the message waits
 for mjcffi_take_error().  The machinery (the thread-local chain of guards, the
-log handler, the message) is hand-written in mjcffi/_helper.c.
+log handler, the message) is hand-written in mjcffi/_c/guard.c.
 
 A function that writes an mjData (a non-const `mjData *` argument) holds it for
-the call (mjcffi_data_enter/leave in _helper.c): another thread's call on the
+the call (mjcffi_data_enter/leave in mjcffi/_c/claims.c): another thread's call on the
 same mjData is refused, and so is, inside a call on this thread, one of
 RESTARTS, which reset the arena that the running call is filling.
 
@@ -27,21 +27,21 @@ from .outputs import HEADER_C
 
 _C_HEAD = """\
 /* One guard per MuJoCo function: the same call, with mju_error turned into a
-   return.  The machinery is in _helper.c; mjcffi_take_error() gives the message. */
+   return.  The machinery is in ../guard.c; mjcffi_take_error() gives the message. */
 
 #include <string.h>
 
 #include <mujoco/mujoco.h>
 #include <mujoco/mjbatch.h>
 
-#include "_guard_chain.h"
-#include "_guards.h"
+#include "guard_chain.h"
+#include "guards.h"
 """
 
 _H_HEAD = """\
 /* mjcffi_guard_F(args): F(args) with MuJoCo's fatal errors caught, thread-locally.
    A void F gives int: 0 ok, 1 error caught.  Any other F gives F's result, or
-   zero when an error was caught.  mjcffi_take_error() (in _helper.h) returns
+   zero when an error was caught.  mjcffi_take_error() (in ../guard.h) returns
    the message.  Read into the cffi cdef and included by the compiled module. */
 """
 
@@ -57,7 +57,7 @@ RESTARTS = frozenset({
     "mj_compareFwdInv", "mj_checkPos", "mj_checkVel", "mj_checkAcc", "mjb_getData",
 })
 
-# Calls checked before MuJoCo runs by a hand-written C function of _helper.c (0: go on),
+# Calls checked before MuJoCo runs by a hand-written C function of mjcffi/_c/gl.c (0: go on),
 # with another called when MuJoCo raised: (enter, failed).
 PRECHECKS = {"mjr_makeContext": ("mjcffi_render_enter", "mjcffi_render_failed")}
 
@@ -142,9 +142,9 @@ def _guard(func):
 
 
 def generate(functions):
-    """{relative path: text} of _guards.h and _guards.c for `functions` (name -> Function).
+    """{relative path: text} of guards.h and guards.c for `functions` (name -> Function).
 
-    Takes codegen.parse's Declarations.functions, or mjcffi._funcinfo.FUNCTIONS.
+    Takes codegen.parse's Declarations.functions, or mjcffi._generated.funcinfo.FUNCTIONS.
     """
     protos, bodies = [], []
     for name in functions:
@@ -153,4 +153,4 @@ def generate(functions):
         bodies.append(body)
     header = HEADER_C + _H_HEAD + "\n" + "\n".join(protos) + "\n"
     source = HEADER_C + _C_HEAD + "\n" + "\n\n".join(bodies) + "\n"
-    return {"mjcffi/_guards.h": header, "mjcffi/_guards.c": source}
+    return {"mjcffi/_c/generated/guards.h": header, "mjcffi/_c/generated/guards.c": source}

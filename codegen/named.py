@@ -1,4 +1,4 @@
-"""Write mjcffi/_namedinfo.py: the tables and methods of named access.
+"""Write mjcffi/_generated/namedinfo.py: the tables and methods of named access.
 
 The categories are the `name_<category>adr` fields of mjModel.  A category's
 fields are the mjModel and mjData arrays whose rows are counted by
@@ -137,15 +137,15 @@ def _entry(entry):
 
 
 def generate(described):
-    """{"mjcffi/_namedinfo.py": text}."""
+    """{"mjcffi/_generated/namedinfo.py": text}."""
     model_fields = {f.name for f in described["mjModel"]}
     data_fields = {f.name for f in described["mjData"]}
     lines = [outputs.HEADER_PY.rstrip("\n"),
              '"""Named access: its categories, their fields, and the methods that reach them.',
              "",
-             "The kinds of fields are read by mjcffi/named.py.  The methods find a cached",
+             "The kinds of fields are read by mjcffi/_support/named.py.  The methods find a cached",
              "accessor in `self._named` (by name) or `self._named_ids` (by id), or else",
-             "call `self._accessor(category, name)`, which mjcffi/named.py gives MjModel",
+             "call `self._accessor(category, name)`, which mjcffi/_support/named.py gives MjModel",
              "and MjData.  As in the official bindings, the argument is a name or an id,",
              "and defaults to the empty name (which no element has: a KeyError).",
              '"""',
@@ -204,4 +204,4 @@ def generate(described):
                       ""]
             if category in ALIASES:
                 lines += [f"    {ALIASES[category]} = {category}", ""]
-    return {"mjcffi/_namedinfo.py": "\n".join(lines).rstrip("\n") + "\n"}
+    return {"mjcffi/_generated/namedinfo.py": "\n".join(lines).rstrip("\n") + "\n"}

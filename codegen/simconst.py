@@ -4,7 +4,7 @@ mujoco-py's `mujoco_py.generated.const` named each #define constant and each
 enum member of MuJoCo without its `mj` prefix: mjMINVAL is MINVAL, mjOBJ_BODY
 is OBJ_BODY, mjNDISABLE is NDISABLE.  Here the same names are made from the
 headers of the installed MuJoCo, so the values are MuJoCo 4's: the numeric
-#defines as mjcffi/_constants.py has them, then the members of every enum
+#defines as mjcffi/_generated/constants.py has them, then the members of every enum
 in the order of the headers.
 """
 
@@ -24,7 +24,7 @@ def _public(name):
 
 def _define_values(header_texts):
     """[(C name, value)] of the numeric #defines, read back from the text of
-    mjcffi/_constants.py, so both files hold the same constants."""
+    mjcffi/_generated/constants.py, so both files hold the same constants."""
     text = outputs.constants(header_texts, headers.macro_values())
     values = []
     for node in ast.parse(text).body:

@@ -1,4 +1,4 @@
-"""Write mjcffi/_simgetters.py: mujoco-py's named getters, as two mixins.
+"""Write mjcffi/sim/generated/getters.py: mujoco-py's named getters, as two mixins.
 
 `SimModelGetters` (for an MjModel subclass) has, per named category of
 mjModel, `<name>_name2id`, `<name>_id2name` and the property `<name>_names`,
@@ -10,7 +10,7 @@ and setters, and the whole-array attributes of BATCH (`body_xpos`,
 Jacobian @ qvel, as in mujoco-py.
 
 The categories come from mjModel's `name_*adr` fields (as for named access).
-The methods call the hand-written helpers of mjcffi/_simsupport.py; the
+The methods call the hand-written helpers of mjcffi/sim/_getter_support.py; the
 tables below are the only special cases.
 """
 
@@ -60,7 +60,7 @@ RENAMED = {"get_xpos": "get_body_xpos", "get_xquat": "get_body_xquat",
 # Short names also given to data getters (get_cam_xpos is get_camera_xpos).
 DATA_ALIASES = {"camera": "cam"}
 
-# What the generated methods call, from the hand-written mjcffi/_simsupport.py.
+# What the generated methods call, from the hand-written mjcffi/sim/_getter_support.py.
 _SUPPORT = ('UnknownIdError', 'UnknownNameError', '_addr', '_all_names', '_camera_jacobian',
             '_get', '_id', '_jacobian', '_jacobians', '_mocap_id', '_name', '_set',
             '_set_row', '_set_userdata_names', '_span', '_userdata_id', '_userdata_name',
@@ -231,7 +231,7 @@ def _data_methods(data_fields):
 
 
 def generate(described, decls):
-    """{"mjcffi/_simgetters.py": text}."""
+    """{"mjcffi/sim/generated/getters.py": text}."""
     cats = named.categories(described)
     model_fields = {f.name for f in described["mjModel"]}
     data_fields = {f.name for f in described["mjData"]}
@@ -246,8 +246,8 @@ def generate(described, decls):
              "as it is now, with the positions of the last mj_forward (or mj_step).",
              '"""',
              "",
-             "from ._functions import mj_jac, mj_jacBody, mj_jacGeom, mj_jacSite",
-             "from ._simsupport import (  # noqa: F401  (the errors: for users)",
+             "from ..._functions import mj_jac, mj_jacBody, mj_jacGeom, mj_jacSite",
+             "from .._getter_support import (  # noqa: F401  (the errors: for users)",
              *textwrap.wrap(", ".join(_SUPPORT) + ")", 90, initial_indent="    ",
                             subsequent_indent="    "),
              "",
@@ -262,4 +262,4 @@ def generate(described, decls):
              ' self.model)."""',
              "",
              *_data_methods(data_fields)]
-    return {"mjcffi/_simgetters.py": "\n".join(lines).rstrip("\n") + "\n"}
+    return {"mjcffi/sim/generated/getters.py": "\n".join(lines).rstrip("\n") + "\n"}

@@ -2,7 +2,7 @@
 
 One module per MuJoCo header (structs/mjmodel.py holds MjOption, MjVisual,
 MjStatistic, MjModel, ...).  Each class is a list of fields built from
-mjcffi/_views.py's pieces: scalars are properties, arrays cached zero-copy
+mjcffi/_support/views.py's pieces: scalars are properties, arrays cached zero-copy
 views, nested structs cached wrappers, arrays of structs StructArrays.  A
 struct of values only derives from ValueStruct (compared field by field, with
 the official repr); one holding pointers from Struct (compared by identity).
@@ -22,7 +22,7 @@ _FLOAT = {"mjtNum", "double", "float"}
 _NUMERIC_OR_CHAR = _NUMERIC | {"char"}
 
 # Fields read every step: built when the struct is wrapped, so that reading them
-# is a plain instance-attribute hit (see mjcffi/_views.py).
+# is a plain instance-attribute hit (see mjcffi/_support/views.py).
 _EAGER = {"mjData": ("qpos", "qvel", "act", "ctrl", "qacc", "qfrc_applied", "xfrc_applied",
                      "mocap_pos", "mocap_quat", "sensordata", "xpos", "xquat")}
 
@@ -106,11 +106,11 @@ _INITIALIZERS = {
 _MAKE_WITHOUT_ARGUMENTS = {"mjvScene"}
 
 # Made for a model whose sizes its buffers take: the constructor records the
-# model with this function of mjcffi/structs/_checks.py, which the functions that
+# model with this function of mjcffi/_support/checks.py, which the functions that
 # write the model into it check (codegen/functions.py, SCENES).
 _MADE_FOR = {"mjvScene": "made_for"}
 
-# Made in the OpenGL context current on the calling thread: mjcffi/_mjr.py makes and
+# Made in the OpenGL context current on the calling thread: mjcffi/_support/mjr.py makes and
 # frees them, and records that context, which the mjr_* functions check.
 _GL_MADE = {"mjrContext"}
 
@@ -120,7 +120,7 @@ _GL_MADE = {"mjrContext"}
 _SPEC_STRUCT = re.compile(r"^(mjSpec|mjs[A-Z]\w*)$")
 
 # Handle kinds of the spec structs' fields that read and write as Python values
-# (mjcffi/structs/_element_fields.py, _element_vectors.py): str, live vectors of
+# (mjcffi/_support/element_fields.py, _element_vectors.py): str, live vectors of
 # numbers, bytes, lists of str or arrays.
 _CONVERTED = {"mjString", "mjDoubleVec", "mjFloatVec", "mjIntVec", "mjByteVec", "mjStringVec",
               "mjIntVecVec", "mjFloatVecVec"}
@@ -140,7 +140,7 @@ def class_name(cname):
 
 def handle_kinds(decls):
     """The types the headers declare as `typedef void` (mjString, mjDoubleVec, ...):
-    handles whose kind cffi cannot see, typed by mjcffi/structs/_handles.py."""
+    handles whose kind cffi cannot see, typed by mjcffi/_support/handles.py."""
     return {name for name, target in decls.typedefs.items() if target.strip() == "void"}
 
 
@@ -567,7 +567,7 @@ def _make_constructor(ctx, struct, default, make, made):
 
 def _gl_constructor(struct):
     """__init__, free() and __repr__ of an mjrContext: made and freed through
-    mjcffi/_mjr.py, which records the OpenGL context it was made in."""
+    mjcffi/_support/mjr.py, which records the OpenGL context it was made in."""
     pycls = class_name(struct)
     return [
         "    def __init__(self, model=None, fontscale=None):",
@@ -580,7 +580,7 @@ def _gl_constructor(struct):
         "",
         "        Every mjr_* function checks that it was made and not freed, and that the "
         "OpenGL",
-        "        context it was made in is current (mjcffi/_mjr.py).",
+        "        context it was made in is current (mjcffi/_support/mjr.py).",
         '        """',
         "        if len({x is None for x in (model, fontscale)}) > 1:",
         "            raise TypeError(" + repr(f"{pycls} takes model and fontscale together, "
@@ -732,7 +732,7 @@ def _frame_methods(ctx):
 
 def _adder_kind(arg):
     """How an add_* method takes one argument of its mjs_add* function (see
-    mjcffi/structs/_element_adders.py, adder)."""
+    mjcffi/_support/element_adders.py, adder)."""
     if arg.name == "def" and arg.type.base == "mjsDefault":
         return "default"
     if arg.type.base == "char" and arg.type.pointer == 1:
@@ -845,29 +845,30 @@ def _imports(body):
     library = [n for n in ("ffi", "lib") if re.search(rf"\b{n}\.", text)]
     lines = ["from typing import Union", ""] if "= Union[" in text else []
     lines += ["from numpy import ndarray", ""] if ": ndarray" in text else []
-    lines += [f"from .._library import {', '.join(library)}"] if library else []
+    lines += [f"from .._support.library import {', '.join(library)}"] if library else []
     views = [n for n in _VIEWS_NAMES if re.search(rf"\b{n}\(|\({n}\):", text)]
-    line = "from .._views import " + ", ".join(views)
+    line = "from .._support.views import " + ", ".join(views)
     if len(line) > 99:
         wrapped = textwrap.wrap(", ".join(views), 76)
-        line = "from .._views import (" + "\n                      ".join(wrapped) + ")"
+        line = "from .._support.views import (" + "\n                              ".join(wrapped) + ")"
     lines.append(line)
-    for module, names in (("_checks", sorted(set(_MADE_FOR.values()))),
-                          ("_handles", ("handle_field", "struct_ref")),
-                          ("_element_adders", ("adder", "frame_adder")),
-                          ("_element_fields", ("char_array", "element_name", "element_setattr",
-                                               "enum_field", "member_ref", "string_field")),
-                          ("_element_vectors", ("vector_field",)),
-                          ("_elements", ("register",)),
-                          ("._mjr", ("context_repr", "make_context", "new_context",
-                                     "release_context"))):
+    for module, names in (("checks", sorted(set(_MADE_FOR.values()))),
+                          ("handles", ("handle_field", "struct_ref")),
+                          ("element_adders", ("adder", "frame_adder")),
+                          ("element_fields", ("char_array", "element_name", "element_setattr",
+                                              "enum_field", "member_ref", "string_field")),
+                          ("element_vectors", ("vector_field",)),
+                          ("elements", ("register",)),
+                          ("mjr", ("context_repr", "make_context", "new_context",
+                                   "release_context"))):
         used = [n for n in names if re.search(rf"\b{n}\(", text)]
         if used:
-            line = f"from .{module} import {', '.join(used)}"
+            line = f"from .._support.{module} import {', '.join(used)}"
             if len(line) > 99:
-                indent = " " * len(f"from .{module} import (")
+                indent = " " * len(f"from .._support.{module} import (")
                 wrapped = textwrap.wrap(", ".join(used), 99 - len(indent))
-                line = (f"from .{module} import (" + f"\n{indent}".join(wrapped) + ")")
+                line = (f"from .._support.{module} import (" + f"\n{indent}".join(wrapped)
+                        + ")")
             lines.append(line)
     return lines
 

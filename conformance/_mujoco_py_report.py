@@ -10,7 +10,7 @@ reads the pass counts back (`committed_passes`).
 import pathlib
 import re
 
-from mjcffi._machine import environment
+from mjcffi._support.machine import environment
 
 from . import _mujoco_py_wheel as wheel
 

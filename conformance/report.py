@@ -11,7 +11,7 @@ import pathlib
 import re
 import sys
 
-from mjcffi._machine import environment
+from mjcffi._support.machine import environment
 
 from . import _mujoco_py_report, notes
 from .runner import official_files, run_file

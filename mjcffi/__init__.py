@@ -13,52 +13,52 @@ loads on first use, so that `import mjcffi` stays cheap.
 import importlib
 import importlib.util
 
-from . import _aliases
-from ._constants import *  # noqa: F401,F403
-from ._enums import *  # noqa: F401,F403
-from ._errors import ArgumentError, FatalError, IdError  # noqa: F401
-from ._library import ffi, lib  # noqa: F401
+from ._support import aliases as _aliases
+from ._generated.constants import *  # noqa: F401,F403
+from ._generated.enums import *  # noqa: F401,F403
+from ._support.errors import ArgumentError, FatalError, IdError  # noqa: F401
+from ._support.library import ffi, lib  # noqa: F401
 
 __version__ = "0.1.0"
 
 # public name -> module that defines it, imported on first use
 _LAZY = {
-    "MJTNUM_DTYPE": "._views", "MJTNUM_BYTES": "._views",   # NumPy loads on first use
+    "MJTNUM_DTYPE": "._support.views", "MJTNUM_BYTES": "._support.views",   # NumPy loads on first use
     "MjModel": ".model",
     "MjData": ".data",
     "MjWarningError": ".warning_errors",
     "set_warnings_as_errors": ".warning_errors",
     "get_warnings_as_errors": ".warning_errors",
     "ignore_warnings": ".warning_errors",
-    "set_mjcb_passive": ".callbacks", "get_mjcb_passive": ".callbacks",
-    "set_mjcb_control": ".callbacks", "get_mjcb_control": ".callbacks",
-    "set_mjcb_contactfilter": ".callbacks", "get_mjcb_contactfilter": ".callbacks",
-    "set_mjcb_sensor": ".callbacks", "get_mjcb_sensor": ".callbacks",
-    "set_mjcb_time": ".callbacks", "get_mjcb_time": ".callbacks",
-    "set_mjcb_act_dyn": ".callbacks", "get_mjcb_act_dyn": ".callbacks",
-    "set_mjcb_act_gain": ".callbacks", "get_mjcb_act_gain": ".callbacks",
-    "set_mjcb_act_bias": ".callbacks", "get_mjcb_act_bias": ".callbacks",
-    "install_timer": ".callbacks",
+    "set_mjcb_passive": "._support.callbacks", "get_mjcb_passive": "._support.callbacks",
+    "set_mjcb_control": "._support.callbacks", "get_mjcb_control": "._support.callbacks",
+    "set_mjcb_contactfilter": "._support.callbacks", "get_mjcb_contactfilter": "._support.callbacks",
+    "set_mjcb_sensor": "._support.callbacks", "get_mjcb_sensor": "._support.callbacks",
+    "set_mjcb_time": "._support.callbacks", "get_mjcb_time": "._support.callbacks",
+    "set_mjcb_act_dyn": "._support.callbacks", "get_mjcb_act_dyn": "._support.callbacks",
+    "set_mjcb_act_gain": "._support.callbacks", "get_mjcb_act_gain": "._support.callbacks",
+    "set_mjcb_act_bias": "._support.callbacks", "get_mjcb_act_bias": "._support.callbacks",
+    "install_timer": "._support.callbacks",
     "set_mju_user_warning": ".user_handlers", "get_mju_user_warning": ".user_handlers",
     "set_mju_user_malloc": ".user_handlers", "get_mju_user_malloc": ".user_handlers",
     "set_mju_user_free": ".user_handlers", "get_mju_user_free": ".user_handlers",
     "MjLogConfig": ".log_config",               # the struct class, with get() and set()
     "_functions": ".functions",    # the official mujoco._functions: _realloc_con_efc, ...
     "MjVfs": ".vfs",
-    "HEADERS_DIR": ".plugins", "PLUGINS_DIR": ".plugins",
-    "PLUGIN_HANDLES": ".plugins",                   # reading it loads the bundled plugins
-    "mjDISABLESTRING": "._stringtables", "mjENABLESTRING": "._stringtables",
-    "mjTIMERSTRING": "._stringtables", "mjLABELSTRING": "._stringtables",
-    "mjFRAMESTRING": "._stringtables", "mjVISSTRING": "._stringtables",
-    "mjRNDSTRING": "._stringtables", "mjTOPICSTRING": "._stringtables",
+    "HEADERS_DIR": "._support.plugins", "PLUGINS_DIR": "._support.plugins",
+    "PLUGIN_HANDLES": "._support.plugins",                   # reading it loads the bundled plugins
+    "mjDISABLESTRING": "._support.stringtables", "mjENABLESTRING": "._support.stringtables",
+    "mjTIMERSTRING": "._support.stringtables", "mjLABELSTRING": "._support.stringtables",
+    "mjFRAMESTRING": "._support.stringtables", "mjVISSTRING": "._support.stringtables",
+    "mjRNDSTRING": "._support.stringtables", "mjTOPICSTRING": "._support.stringtables",
     "GLContext": ".gl_context",     # reads MUJOCO_GL; absent when it says disable, as official
     "Renderer": ".renderer",        # loads a GL backend on construction, not on import
     "MjSpec": ".spec",              # the hand-written class over the generated mjSpec struct
     "from_zip": ".spec", "to_zip": ".spec",
     "MjStruct": ".structs.mjspec",  # typing.Union of the element classes, as official
     # the live vector attributes of spec elements (body.userdata, texture.cubefiles, ...)
-    "MjCharVec": ".structs._element_fields",
-    **{name: ".structs._element_vectors" for name in (
+    "MjCharVec": "._support.element_fields",
+    **{name: "._support.element_vectors" for name in (
         "MjDoubleVec", "MjFloatVec", "MjIntVec", "MjStringVec")},
     # the element classes, with their hand-written methods (spec/elements.py)
     **{name: ".spec.elements" for name in (
@@ -109,7 +109,7 @@ def __getattr__(name):
 
 
 def _plugins():
-    return importlib.import_module(".plugins", __name__)
+    return importlib.import_module("._support.plugins", __name__)
 
 
 # `import mujoco.rollout` after `sys.modules['mujoco'] = mjcffi` gives mjcffi.rollout

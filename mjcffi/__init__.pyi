@@ -1,15 +1,15 @@
 # Type stub of the mjcffi package: the names its __getattr__ loads on first use.
-from ._constants import *
-from ._enums import *
-from ._errors import (ArgumentError as ArgumentError, FatalError as FatalError,
+from ._generated.constants import *
+from ._generated.enums import *
+from ._support.errors import (ArgumentError as ArgumentError, FatalError as FatalError,
                       IdError as IdError)
 from ._functions import *
-from ._library import ffi as ffi, lib as lib
-from ._overrides import *
+from ._support.library import ffi as ffi, lib as lib
+from .functions._overrides import *
 from . import batch as batch, minimize as minimize, rollout as rollout, sim as sim
 # mjcffi.tune is a module that calls as the function tune
 from .tune import tune as tune
-from .callbacks import *
+from ._support.callbacks import *
 # MjLogConfig is log_config's subclass (get, set), not the generated base that structs exports
 from .log_config import MjLogConfig as MjLogConfig
 from .structs.mjtype import *  # type: ignore[assignment]
@@ -44,12 +44,12 @@ from .spec.elements import (MjsActuator as MjsActuator, MjsBody as
                             MjsTendonPath as MjsTendonPath, MjsText as
                             MjsText, MjsTexture as MjsTexture, MjsTuple
                             as MjsTuple, MjsWrap as MjsWrap)
-from .structs._element_fields import MjCharVec as MjCharVec
-from .structs._element_vectors import (MjDoubleVec as MjDoubleVec, MjFloatVec as MjFloatVec,
+from ._support.element_fields import MjCharVec as MjCharVec
+from ._support.element_vectors import (MjDoubleVec as MjDoubleVec, MjFloatVec as MjFloatVec,
                                        MjIntVec as MjIntVec, MjStringVec as MjStringVec)
 from .user_handlers import *
 from .vfs import MjVfs as MjVfs
-from .plugins import HEADERS_DIR as HEADERS_DIR, PLUGINS_DIR as PLUGINS_DIR
+from ._support.plugins import HEADERS_DIR as HEADERS_DIR, PLUGINS_DIR as PLUGINS_DIR
 from .warning_errors import (MjWarningError as MjWarningError,
                              get_warnings_as_errors as get_warnings_as_errors,
                              ignore_warnings as ignore_warnings,
@@ -59,11 +59,11 @@ from .spec import MjSpec as MjSpec, from_zip as from_zip, to_zip as to_zip
 
 __version__: str
 
-# mjcffi/plugins.py: the bundled plugin libraries, loaded on first use
+# mjcffi/_support/plugins.py: the bundled plugin libraries, loaded on first use
 import ctypes as _ctypes
 PLUGIN_HANDLES: list[_ctypes.CDLL]
 
-# mjcffi/_stringtables.py: MuJoCo's string tables, read from libmujoco
+# mjcffi/_support/stringtables.py: MuJoCo's string tables, read from libmujoco
 mjDISABLESTRING: tuple[str, ...]
 mjENABLESTRING: tuple[str, ...]
 mjTIMERSTRING: tuple[str, ...]

@@ -2,27 +2,27 @@
 """MuJoCo's functions, one Python function each, with the official bindings' signatures.
 
 Each function F comes in three parts.  `_F(args)`, the slow path, checks and
-converts the arguments with mjcffi/_marshal.py (see its docstring for the rules)
+converts the arguments with mjcffi/_support/marshal.py (see its docstring for the rules)
 and calls the guarded C twin `lib.mjcffi_guard_F`, so that a mju_error raises
 mjcffi.FatalError.  `F(args)` first tries its fast path, where one exists:
 exact NumPy arrays of the right dtype, layout and shape, ids in range, tested
 inline and passed straight to C; anything else, or anything the fast path is
 unsure of, goes to `_F(args)`, with its conversions and its messages.
 `F.prepare(args)` runs `_F(args, prepare=True)`, which hands what it converted
-to `_bind_F`: the guarded call, ready to make (mjcffi/_prepared.py).
+to `_bind_F`: the guarded call, ready to make (mjcffi/_support/prepared.py).
 Sizes such as mju_add's `n` are deduced from the arrays.  `lib.<name>` is the
 raw C function.
 """
 
-from . import _marshal as _m
-from . import _mjr as _r
-from . import _prepared as _p
-from . import callbacks as _cb
 from . import structs as _structs
-from ._library import lib as _lib
-from .structs import _checks as _c
-from .structs import _handles as _h
-from ._arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private helpers)
+from ._support import contract as _contract
+from ._support import checks as _c
+from ._support import handles as _h
+from ._support import marshal as _m
+from ._support import mjr as _r
+from ._support import prepared as _p
+from ._support.arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private)
+from ._support.library import lib as _lib
 
 # what the fast paths test and convert with, bound once (and the builtins they use under
 # names no argument can shadow: mju_str2Type's argument is `str`)
@@ -55,7 +55,7 @@ def _bind_mj_addFileVFS(c_vfs, c_directory, c_filename):
 
     def call():
         ret = guard(c_vfs, c_directory, c_filename)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -72,7 +72,7 @@ def _mj_addFileVFS(vfs, directory, filename, *, prepare=False):
     if prepare:
         return _bind_mj_addFileVFS(c_vfs, c_directory, c_filename)
     ret = _lib.mjcffi_guard_mj_addFileVFS(c_vfs, c_directory, c_filename)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -96,7 +96,7 @@ def _bind_mj_addBufferVFS(c_vfs, c_name, c_buffer, nbuffer):
             ret = guard(c_vfs, c_name, c_buffer, nbuffer)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_addBufferVFS", {"nbuffer": ("int", nbuffer)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -118,7 +118,7 @@ def _mj_addBufferVFS(vfs, name, buffer, *, prepare=False):
         ret = _lib.mjcffi_guard_mj_addBufferVFS(c_vfs, c_name, c_buffer, nbuffer)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_addBufferVFS", {"nbuffer": ("int", nbuffer)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -139,7 +139,7 @@ def _bind_mj_containsBufferVFS(c_vfs, c_name):
 
     def call():
         ret = guard(c_vfs, c_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -155,7 +155,7 @@ def _mj_containsBufferVFS(vfs, name, *, prepare=False):
     if prepare:
         return _bind_mj_containsBufferVFS(c_vfs, c_name)
     ret = _lib.mjcffi_guard_mj_containsBufferVFS(c_vfs, c_name)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -176,7 +176,7 @@ def _bind_mj_containsFileVFS(c_vfs, c_directory, c_filename):
 
     def call():
         ret = guard(c_vfs, c_directory, c_filename)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -193,7 +193,7 @@ def _mj_containsFileVFS(vfs, directory, filename, *, prepare=False):
     if prepare:
         return _bind_mj_containsFileVFS(c_vfs, c_directory, c_filename)
     ret = _lib.mjcffi_guard_mj_containsFileVFS(c_vfs, c_directory, c_filename)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -214,7 +214,7 @@ def _bind_mj_getCacheSize(c_cache):
 
     def call():
         ret = guard(c_cache)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -229,7 +229,7 @@ def _mj_getCacheSize(cache, *, prepare=False):
     if prepare:
         return _bind_mj_getCacheSize(c_cache)
     ret = _lib.mjcffi_guard_mj_getCacheSize(c_cache)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -250,7 +250,7 @@ def _bind_mj_getCacheCapacity(c_cache):
 
     def call():
         ret = guard(c_cache)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -265,7 +265,7 @@ def _mj_getCacheCapacity(cache, *, prepare=False):
     if prepare:
         return _bind_mj_getCacheCapacity(c_cache)
     ret = _lib.mjcffi_guard_mj_getCacheCapacity(c_cache)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -289,7 +289,7 @@ def _bind_mj_setCacheCapacity(c_cache, size):
             ret = guard(c_cache, size)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_setCacheCapacity", {"size": ("size_t", size)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -308,7 +308,7 @@ def _mj_setCacheCapacity(cache, size, *, prepare=False):
         ret = _lib.mjcffi_guard_mj_setCacheCapacity(c_cache, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_setCacheCapacity", {"size": ("size_t", size)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -329,7 +329,7 @@ def _bind_mj_getCache():
 
     def call():
         ret = guard()
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjCache, ret, None)
     return call
@@ -343,7 +343,7 @@ def _mj_getCache(*, prepare=False):
     if prepare:
         return _bind_mj_getCache()
     ret = _lib.mjcffi_guard_mj_getCache()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjCache, ret, None)
 
@@ -355,7 +355,7 @@ def mj_getCache():
 Get the internal asset cache used by the compiler.
 """
     ret = _lib.mjcffi_guard_mj_getCache()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjCache, ret, None)
     return _mj_getCache()
@@ -368,7 +368,7 @@ def _bind_mj_clearCache(c_cache):
 
     def call():
         status = guard(c_cache)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -382,7 +382,7 @@ def _mj_clearCache(cache, *, prepare=False):
     if prepare:
         return _bind_mj_clearCache(c_cache)
     status = _lib.mjcffi_guard_mj_clearCache(c_cache)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -403,7 +403,7 @@ def _bind_mj_parseXML(c_filename, c_vfs):
     def call():
         error, error_sz = _m.error_buffer()
         ret = guard(c_filename, c_vfs, error, error_sz)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         if ret == _m.NULL:
             raise ValueError(_m.error_text(error, "mj_parseXML"))
@@ -422,7 +422,7 @@ def _mj_parseXML(filename, vfs=None, *, prepare=False):
         return _bind_mj_parseXML(c_filename, c_vfs)
     error, error_sz = _m.error_buffer()
     ret = _lib.mjcffi_guard_mj_parseXML(c_filename, c_vfs, error, error_sz)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     if ret == _m.NULL:
         raise ValueError(_m.error_text(error, "mj_parseXML"))
@@ -446,7 +446,7 @@ def _bind_mj_parseXMLString(c_xml, c_vfs):
     def call():
         error, error_sz = _m.error_buffer()
         ret = guard(c_xml, c_vfs, error, error_sz)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         if ret == _m.NULL:
             raise ValueError(_m.error_text(error, "mj_parseXMLString"))
@@ -465,7 +465,7 @@ def _mj_parseXMLString(xml, vfs=None, *, prepare=False):
         return _bind_mj_parseXMLString(c_xml, c_vfs)
     error, error_sz = _m.error_buffer()
     ret = _lib.mjcffi_guard_mj_parseXMLString(c_xml, c_vfs, error, error_sz)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     if ret == _m.NULL:
         raise ValueError(_m.error_text(error, "mj_parseXMLString"))
@@ -489,7 +489,7 @@ def _bind_mj_parse(c_filename, c_content_type, c_vfs):
     def call():
         error, error_sz = _m.error_buffer()
         ret = guard(c_filename, c_content_type, c_vfs, error, error_sz)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         if ret == _m.NULL:
             raise ValueError(_m.error_text(error, "mj_parse"))
@@ -509,7 +509,7 @@ def _mj_parse(filename, content_type, vfs=None, *, prepare=False):
         return _bind_mj_parse(c_filename, c_content_type, c_vfs)
     error, error_sz = _m.error_buffer()
     ret = _lib.mjcffi_guard_mj_parse(c_filename, c_content_type, c_vfs, error, error_sz)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     if ret == _m.NULL:
         raise ValueError(_m.error_text(error, "mj_parse"))
@@ -533,7 +533,7 @@ def _bind_mj_encode(c_s, c_m, c_filename, c_content_type, c_vfs):
     def call():
         error, error_sz = _m.error_buffer()
         ret = guard(c_s, c_m, c_filename, c_content_type, c_vfs, error, error_sz)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         if ret < 0:
             raise ValueError(_m.error_text(error, "mj_encode"))
@@ -555,7 +555,7 @@ def _mj_encode(s, m, filename, content_type, vfs=None, *, prepare=False):
         return _bind_mj_encode(c_s, c_m, c_filename, c_content_type, c_vfs)
     error, error_sz = _m.error_buffer()
     ret = _lib.mjcffi_guard_mj_encode(c_s, c_m, c_filename, c_content_type, c_vfs, error, error_sz)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     if ret < 0:
         raise ValueError(_m.error_text(error, "mj_encode"))
@@ -579,7 +579,7 @@ def _bind_mj_copyBack(c_s, c_m):
 
     def call():
         ret = guard(c_s, c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -595,7 +595,7 @@ def _mj_copyBack(s, m, *, prepare=False):
     if prepare:
         return _bind_mj_copyBack(c_s, c_m)
     ret = _lib.mjcffi_guard_mj_copyBack(c_s, c_m)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -630,7 +630,7 @@ def _bind_mj_saveLastXML(c_filename, c_m):
     def call():
         error, error_sz = _m.error_buffer()
         ret = guard(c_filename, c_m, error, error_sz)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         if ret == 0:
             raise _m.FatalError(_m.error_text(error, "mj_saveLastXML"))
@@ -648,7 +648,7 @@ def _mj_saveLastXML(filename, m, *, prepare=False):
         return _bind_mj_saveLastXML(c_filename, c_m)
     error, error_sz = _m.error_buffer()
     ret = _lib.mjcffi_guard_mj_saveLastXML(c_filename, c_m, error, error_sz)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     if ret == 0:
         raise _m.FatalError(_m.error_text(error, "mj_saveLastXML"))
@@ -671,7 +671,7 @@ def _bind_mj_freeLastXML():
 
     def call():
         status = guard()
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -684,7 +684,7 @@ def _mj_freeLastXML(*, prepare=False):
     if prepare:
         return _bind_mj_freeLastXML()
     status = _lib.mjcffi_guard_mj_freeLastXML()
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -695,7 +695,7 @@ def mj_freeLastXML():
 Free last XML model if loaded. Called internally at each load.
 """
     status = _lib.mjcffi_guard_mj_freeLastXML()
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
     return
     return _mj_freeLastXML()
@@ -709,7 +709,7 @@ def _bind_mj_saveXML(c_s, c_filename):
     def call():
         error, error_sz = _m.error_buffer()
         ret = guard(c_s, c_filename, error, error_sz)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         if ret != 0:
             raise ValueError(_m.error_text(error, "mj_saveXML"))
@@ -727,7 +727,7 @@ def _mj_saveXML(s, filename, *, prepare=False):
         return _bind_mj_saveXML(c_s, c_filename)
     error, error_sz = _m.error_buffer()
     ret = _lib.mjcffi_guard_mj_saveXML(c_s, c_filename, error, error_sz)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     if ret != 0:
         raise ValueError(_m.error_text(error, "mj_saveXML"))
@@ -749,7 +749,7 @@ def _bind_mj_step1(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -763,7 +763,7 @@ def _mj_step1(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_step1(c_m, c_d)
     status = _lib.mjcffi_guard_mj_step1(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -781,7 +781,7 @@ Advance simulation in two steps: before external force and control is set by use
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_step1(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_step1(m, d)
@@ -794,7 +794,7 @@ def _bind_mj_step2(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -808,7 +808,7 @@ def _mj_step2(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_step2(c_m, c_d)
     status = _lib.mjcffi_guard_mj_step2(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -826,7 +826,7 @@ Advance simulation in two steps: after external force and control is set by user
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_step2(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_step2(m, d)
@@ -839,7 +839,7 @@ def _bind_mj_inverse(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -853,7 +853,7 @@ def _mj_inverse(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_inverse(c_m, c_d)
     status = _lib.mjcffi_guard_mj_inverse(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -871,7 +871,7 @@ Inverse dynamics: qacc must be set before calling.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_inverse(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_inverse(m, d)
@@ -888,7 +888,7 @@ def _bind_mj_forwardSkip(c_m, c_d, skipstage, skipsensor):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_forwardSkip", {
                 "skipstage": ("int", skipstage), "skipsensor": ("int", skipsensor)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -908,7 +908,7 @@ def _mj_forwardSkip(m, d, skipstage, skipsensor, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_forwardSkip", {
             "skipstage": ("int", skipstage), "skipsensor": ("int", skipsensor)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -930,7 +930,7 @@ Forward dynamics with skip; skipstage is mjtStage.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_forwardSkip(m, d, skipstage, skipsensor)
@@ -947,7 +947,7 @@ def _bind_mj_inverseSkip(c_m, c_d, skipstage, skipsensor):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_inverseSkip", {
                 "skipstage": ("int", skipstage), "skipsensor": ("int", skipsensor)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -967,7 +967,7 @@ def _mj_inverseSkip(m, d, skipstage, skipsensor, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_inverseSkip", {
             "skipstage": ("int", skipstage), "skipsensor": ("int", skipsensor)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -989,7 +989,7 @@ Inverse dynamics with skip; skipstage is mjtStage.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_inverseSkip(m, d, skipstage, skipsensor)
@@ -1002,7 +1002,7 @@ def _bind_mj_defaultLROpt(c_opt):
 
     def call():
         status = guard(c_opt)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1016,7 +1016,7 @@ def _mj_defaultLROpt(opt, *, prepare=False):
     if prepare:
         return _bind_mj_defaultLROpt(c_opt)
     status = _lib.mjcffi_guard_mj_defaultLROpt(c_opt)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1036,7 +1036,7 @@ def _bind_mj_defaultSolRefImp(c_solref, c_solimp):
 
     def call():
         status = guard(c_solref, c_solimp)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1051,7 +1051,7 @@ def _mj_defaultSolRefImp(solref=None, solimp=None, *, prepare=False):
     if prepare:
         return _bind_mj_defaultSolRefImp(c_solref, c_solimp)
     status = _lib.mjcffi_guard_mj_defaultSolRefImp(c_solref, c_solimp)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1074,7 +1074,7 @@ solimp: output array of shape (mjNIMP,) or None.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_defaultSolRefImp(c_solref, c_solimp)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_defaultSolRefImp(solref, solimp)
@@ -1087,7 +1087,7 @@ def _bind_mj_defaultOption(c_opt):
 
     def call():
         status = guard(c_opt)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1101,7 +1101,7 @@ def _mj_defaultOption(opt, *, prepare=False):
     if prepare:
         return _bind_mj_defaultOption(c_opt)
     status = _lib.mjcffi_guard_mj_defaultOption(c_opt)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1121,7 +1121,7 @@ def _bind_mj_defaultVisual(c_vis):
 
     def call():
         status = guard(c_vis)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1135,7 +1135,7 @@ def _mj_defaultVisual(vis, *, prepare=False):
     if prepare:
         return _bind_mj_defaultVisual(c_vis)
     status = _lib.mjcffi_guard_mj_defaultVisual(c_vis)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1159,7 +1159,7 @@ def _bind_mj_saveModel(c_m, c_filename, c_buffer, buffer_sz):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_saveModel", {
                 "buffer_sz": ("mjtSize", buffer_sz)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1182,7 +1182,7 @@ def _mj_saveModel(m, filename=None, buffer=None, *, prepare=False):
         status = _lib.mjcffi_guard_mj_saveModel(c_m, c_filename, c_buffer, buffer_sz)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_saveModel", {"buffer_sz": ("mjtSize", buffer_sz)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1215,7 +1215,7 @@ def _bind_mj_sizeModel(c_m):
 
     def call():
         ret = guard(c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -1230,7 +1230,7 @@ def _mj_sizeModel(m, *, prepare=False):
     if prepare:
         return _bind_mj_sizeModel(c_m)
     ret = _lib.mjcffi_guard_mj_sizeModel(c_m)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -1248,7 +1248,7 @@ Return size of buffer needed to hold model.
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mj_sizeModel(c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mj_sizeModel(m)
@@ -1261,7 +1261,7 @@ def _bind_mj_copyData(c_dest, c_m, c_src):
 
     def call():
         ret = guard(c_dest, c_m, c_src)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return None
     return call
@@ -1277,7 +1277,7 @@ def _mj_copyData(dest, m, src, *, prepare=False):
     if prepare:
         return _bind_mj_copyData(c_dest, c_m, c_src)
     ret = _lib.mjcffi_guard_mj_copyData(c_dest, c_m, c_src)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return None
 
@@ -1299,7 +1299,7 @@ m is only required to contain the size fields from MJMODEL_INTS.
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mj_copyData(c_dest, c_m, c_src)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return None
     return _mj_copyData(dest, m, src)
@@ -1325,7 +1325,7 @@ def _bind_mj_resetCtrl(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1339,7 +1339,7 @@ def _mj_resetCtrl(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_resetCtrl(c_m, c_d)
     status = _lib.mjcffi_guard_mj_resetCtrl(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1357,7 +1357,7 @@ Reset ctrl to neutral values: zero, except quaternion inputs which reset to the 
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_resetCtrl(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_resetCtrl(m, d)
@@ -1370,7 +1370,7 @@ def _bind_mj_resetData(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1384,7 +1384,7 @@ def _mj_resetData(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_resetData(c_m, c_d)
     status = _lib.mjcffi_guard_mj_resetData(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1402,7 +1402,7 @@ Reset data to defaults.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_resetData(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_resetData(m, d)
@@ -1419,7 +1419,7 @@ def _bind_mj_resetDataDebug(c_m, c_d, debug_value):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_resetDataDebug", {
                 "debug_value": ("unsigned char", debug_value)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1438,7 +1438,7 @@ def _mj_resetDataDebug(m, d, debug_value, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_resetDataDebug", {
             "debug_value": ("unsigned char", debug_value)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1460,7 +1460,7 @@ Reset data to defaults, fill everything else with debug_value.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_resetDataDebug(m, d, debug_value)
@@ -1476,7 +1476,7 @@ def _bind_mj_resetDataKeyframe(c_m, c_d, key):
             status = guard(c_m, c_d, key)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_resetDataKeyframe", {"key": ("int", key)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1494,7 +1494,7 @@ def _mj_resetDataKeyframe(m, d, key, *, prepare=False):
         status = _lib.mjcffi_guard_mj_resetDataKeyframe(c_m, c_d, key)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_resetDataKeyframe", {"key": ("int", key)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1516,7 +1516,7 @@ Reset data. If 0 <= key < nkey, set fields from specified keyframe.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_resetDataKeyframe(m, d, key)
@@ -1529,7 +1529,7 @@ def _bind_mj_markStack(c_d):
 
     def call():
         status = guard(c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1543,7 +1543,7 @@ def _mj_markStack(d, *, prepare=False):
     if prepare:
         return _bind_mj_markStack(c_d)
     status = _lib.mjcffi_guard_mj_markStack(c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1560,7 +1560,7 @@ Mark a new frame on the mjData stack.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_markStack(c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_markStack(d)
@@ -1573,7 +1573,7 @@ def _bind_mj_freeStack(c_d):
 
     def call():
         status = guard(c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1587,7 +1587,7 @@ def _mj_freeStack(d, *, prepare=False):
     if prepare:
         return _bind_mj_freeStack(c_d)
     status = _lib.mjcffi_guard_mj_freeStack(c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1605,7 +1605,7 @@ to mj_markStack must no longer be used afterwards.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_freeStack(c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_freeStack(d)
@@ -1622,7 +1622,7 @@ def _bind_mj_stackAllocByte(c_d, bytes, alignment):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_stackAllocByte", {
                 "bytes": ("size_t", bytes), "alignment": ("size_t", alignment)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return None if ret == _m.NULL else ret
     return call
@@ -1643,7 +1643,7 @@ def _mj_stackAllocByte(d, bytes, alignment, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_stackAllocByte", {
             "bytes": ("size_t", bytes), "alignment": ("size_t", alignment)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return None if ret == _m.NULL else ret
 
@@ -1666,7 +1666,7 @@ Call mju_error on stack overflow.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return None if ret == _m.NULL else ret
     return _mj_stackAllocByte(d, bytes, alignment)
@@ -1682,7 +1682,7 @@ def _bind_mj_stackAllocNum(c_d, size):
             ret = guard(c_d, size)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_stackAllocNum", {"size": ("size_t", size)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -1701,7 +1701,7 @@ def _mj_stackAllocNum(d, size, *, prepare=False):
         ret = _lib.mjcffi_guard_mj_stackAllocNum(c_d, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_stackAllocNum", {"size": ("size_t", size)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -1723,7 +1723,7 @@ Allocate array of mjtNums on mjData stack. Call mju_error on stack overflow.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mj_stackAllocNum(d, size)
@@ -1739,7 +1739,7 @@ def _bind_mj_stackAllocInt(c_d, size):
             ret = guard(c_d, size)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_stackAllocInt", {"size": ("size_t", size)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -1758,7 +1758,7 @@ def _mj_stackAllocInt(d, size, *, prepare=False):
         ret = _lib.mjcffi_guard_mj_stackAllocInt(c_d, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_stackAllocInt", {"size": ("size_t", size)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -1780,7 +1780,7 @@ Allocate array of ints on mjData stack. Call mju_error on stack overflow.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mj_stackAllocInt(d, size)
@@ -1806,7 +1806,7 @@ def _bind_mj_resetCallbacks():
 
     def call():
         status = guard()
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1819,7 +1819,7 @@ def _mj_resetCallbacks(*, prepare=False):
     if prepare:
         return _bind_mj_resetCallbacks()
     status = _lib.mjcffi_guard_mj_resetCallbacks()
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1830,7 +1830,7 @@ def mj_resetCallbacks():
 Reset all callbacks to NULL pointers (NULL is the default).
 """
     status = _lib.mjcffi_guard_mj_resetCallbacks()
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
     return
     return _mj_resetCallbacks()
@@ -1843,7 +1843,7 @@ def _bind_mj_setConst(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -1857,7 +1857,7 @@ def _mj_setConst(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_setConst(c_m, c_d)
     status = _lib.mjcffi_guard_mj_setConst(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -1875,7 +1875,7 @@ Set constant fields of mjModel, corresponding to qpos0 configuration.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_setConst(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_setConst(m, d)
@@ -1892,7 +1892,7 @@ def _bind_mj_setLengthRange(c_m, c_d, index, c_opt):
             ret = guard(c_m, c_d, index, c_opt, error, error_sz)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_setLengthRange", {"index": ("int", index)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         if ret == 0:
             raise _m.FatalError(_m.error_text(error, "mj_setLengthRange"))
@@ -1914,7 +1914,7 @@ def _mj_setLengthRange(m, d, index, opt, *, prepare=False):
         ret = _lib.mjcffi_guard_mj_setLengthRange(c_m, c_d, index, c_opt, error, error_sz)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_setLengthRange", {"index": ("int", index)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     if ret == 0:
         raise _m.FatalError(_m.error_text(error, "mj_setLengthRange"))
@@ -1936,7 +1936,7 @@ def _bind_mj_makeSpec():
 
     def call():
         ret = guard()
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.own(_structs.MjSpec, ret, _lib.mj_deleteSpec)
     return call
@@ -1950,7 +1950,7 @@ def _mj_makeSpec(*, prepare=False):
     if prepare:
         return _bind_mj_makeSpec()
     ret = _lib.mjcffi_guard_mj_makeSpec()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.own(_structs.MjSpec, ret, _lib.mj_deleteSpec)
 
@@ -1962,7 +1962,7 @@ def mj_makeSpec():
 Create empty spec.
 """
     ret = _lib.mjcffi_guard_mj_makeSpec()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.own(_structs.MjSpec, ret, _lib.mj_deleteSpec)
     return _mj_makeSpec()
@@ -1975,7 +1975,7 @@ def _bind_mj_copySpec(c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.own(_structs.MjSpec, ret, _lib.mj_deleteSpec)
     return call
@@ -1990,7 +1990,7 @@ def _mj_copySpec(s, *, prepare=False):
     if prepare:
         return _bind_mj_copySpec(c_s)
     ret = _lib.mjcffi_guard_mj_copySpec(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.own(_structs.MjSpec, ret, _lib.mj_deleteSpec)
 
@@ -2024,7 +2024,7 @@ def _bind_mjs_activatePlugin(c_s, c_name):
 
     def call():
         ret = guard(c_s, c_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -2040,7 +2040,7 @@ def _mjs_activatePlugin(s, name, *, prepare=False):
     if prepare:
         return _bind_mjs_activatePlugin(c_s, c_name)
     ret = _lib.mjcffi_guard_mjs_activatePlugin(c_s, c_name)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -2064,7 +2064,7 @@ def _bind_mjs_setDeepCopy(c_s, deepcopy):
             ret = guard(c_s, deepcopy)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setDeepCopy", {"deepcopy": ("int", deepcopy)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -2083,7 +2083,7 @@ def _mjs_setDeepCopy(s, deepcopy, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_setDeepCopy(c_s, deepcopy)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setDeepCopy", {"deepcopy": ("int", deepcopy)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -2104,7 +2104,7 @@ def _bind_mj_printFormattedModel(c_m, c_filename, c_float_format):
 
     def call():
         status = guard(c_m, c_filename, c_float_format)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2120,7 +2120,7 @@ def _mj_printFormattedModel(m, filename, float_format, *, prepare=False):
     if prepare:
         return _bind_mj_printFormattedModel(c_m, c_filename, c_float_format)
     status = _lib.mjcffi_guard_mj_printFormattedModel(c_m, c_filename, c_float_format)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2143,7 +2143,7 @@ float_format must be a valid printf-style format string for a single float value
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_printFormattedModel(c_m, c_filename, c_float_format)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_printFormattedModel(m, filename, float_format)
@@ -2156,7 +2156,7 @@ def _bind_mj_printModel(c_m, c_filename):
 
     def call():
         status = guard(c_m, c_filename)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2171,7 +2171,7 @@ def _mj_printModel(m, filename, *, prepare=False):
     if prepare:
         return _bind_mj_printModel(c_m, c_filename)
     status = _lib.mjcffi_guard_mj_printModel(c_m, c_filename)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2191,7 +2191,7 @@ Print model to text file.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_printModel(c_m, c_filename)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_printModel(m, filename)
@@ -2204,7 +2204,7 @@ def _bind_mj_printFormattedData(c_m, c_d, c_filename, c_float_format):
 
     def call():
         status = guard(c_m, c_d, c_filename, c_float_format)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2220,7 +2220,7 @@ def _mj_printFormattedData(m, d, filename, float_format, *, prepare=False):
     if prepare:
         return _bind_mj_printFormattedData(c_m, c_d, c_filename, c_float_format)
     status = _lib.mjcffi_guard_mj_printFormattedData(c_m, c_d, c_filename, c_float_format)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2244,7 +2244,7 @@ float_format must be a valid printf-style format string for a single float value
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_printFormattedData(c_m, c_d, c_filename, c_float_format)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_printFormattedData(m, d, filename, float_format)
@@ -2257,7 +2257,7 @@ def _bind_mj_printData(c_m, c_d, c_filename):
 
     def call():
         status = guard(c_m, c_d, c_filename)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2272,7 +2272,7 @@ def _mj_printData(m, d, filename, *, prepare=False):
     if prepare:
         return _bind_mj_printData(c_m, c_d, c_filename)
     status = _lib.mjcffi_guard_mj_printData(c_m, c_d, c_filename)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2293,7 +2293,7 @@ Print data to text file.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_printData(c_m, c_d, c_filename)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_printData(m, d, filename)
@@ -2310,7 +2310,7 @@ def _bind_mju_printMat(c_mat, nr, nc):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_printMat", {
                 "nr": ("int", nr), "nc": ("int", nc)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2331,7 +2331,7 @@ def _mju_printMat(mat, *, prepare=False):
         status = _lib.mjcffi_guard_mju_printMat(c_mat, nr, nc)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_printMat", {"nr": ("int", nr), "nc": ("int", nc)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2357,7 +2357,7 @@ mat: array of shape (nr, nc).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_printMat(mat)
@@ -2373,7 +2373,7 @@ def _bind_mju_printMatSparse(c_mat, nr, c_rownnz, c_rowadr, c_colind):
             status = guard(c_mat, nr, c_rownnz, c_rowadr, c_colind)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_printMatSparse", {"nr": ("int", nr)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2397,7 +2397,7 @@ def _mju_printMatSparse(mat, rownnz, rowadr, colind, *, prepare=False):
         status = _lib.mjcffi_guard_mju_printMatSparse(c_mat, nr, c_rownnz, c_rowadr, c_colind)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_printMatSparse", {"nr": ("int", nr)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2420,7 +2420,7 @@ def _bind_mj_printScene(c_s, c_filename):
 
     def call():
         status = guard(c_s, c_filename)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2435,7 +2435,7 @@ def _mj_printScene(s, filename, *, prepare=False):
     if prepare:
         return _bind_mj_printScene(c_s, c_filename)
     status = _lib.mjcffi_guard_mj_printScene(c_s, c_filename)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2455,7 +2455,7 @@ def _bind_mj_printFormattedScene(c_s, c_filename, c_float_format):
 
     def call():
         status = guard(c_s, c_filename, c_float_format)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2471,7 +2471,7 @@ def _mj_printFormattedScene(s, filename, float_format, *, prepare=False):
     if prepare:
         return _bind_mj_printFormattedScene(c_s, c_filename, c_float_format)
     status = _lib.mjcffi_guard_mj_printFormattedScene(c_s, c_filename, c_float_format)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2492,7 +2492,7 @@ def _bind_mj_fwdKinematics(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2506,7 +2506,7 @@ def _mj_fwdKinematics(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_fwdKinematics(c_m, c_d)
     status = _lib.mjcffi_guard_mj_fwdKinematics(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2524,7 +2524,7 @@ Run all kinematics-like computations (kinematics, comPos, camlight, flex, tendon
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_fwdKinematics(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_fwdKinematics(m, d)
@@ -2537,7 +2537,7 @@ def _bind_mj_fwdPosition(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2551,7 +2551,7 @@ def _mj_fwdPosition(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_fwdPosition(c_m, c_d)
     status = _lib.mjcffi_guard_mj_fwdPosition(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2569,7 +2569,7 @@ Run position-dependent computations.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_fwdPosition(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_fwdPosition(m, d)
@@ -2582,7 +2582,7 @@ def _bind_mj_fwdVelocity(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2596,7 +2596,7 @@ def _mj_fwdVelocity(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_fwdVelocity(c_m, c_d)
     status = _lib.mjcffi_guard_mj_fwdVelocity(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2614,7 +2614,7 @@ Run velocity-dependent computations.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_fwdVelocity(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_fwdVelocity(m, d)
@@ -2627,7 +2627,7 @@ def _bind_mj_fwdActuation(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2641,7 +2641,7 @@ def _mj_fwdActuation(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_fwdActuation(c_m, c_d)
     status = _lib.mjcffi_guard_mj_fwdActuation(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2659,7 +2659,7 @@ Compute actuator force qfrc_actuator.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_fwdActuation(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_fwdActuation(m, d)
@@ -2672,7 +2672,7 @@ def _bind_mj_fwdAcceleration(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2686,7 +2686,7 @@ def _mj_fwdAcceleration(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_fwdAcceleration(c_m, c_d)
     status = _lib.mjcffi_guard_mj_fwdAcceleration(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2704,7 +2704,7 @@ Add up all non-constraint forces, compute qacc_smooth.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_fwdAcceleration(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_fwdAcceleration(m, d)
@@ -2717,7 +2717,7 @@ def _bind_mj_fwdConstraint(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2731,7 +2731,7 @@ def _mj_fwdConstraint(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_fwdConstraint(c_m, c_d)
     status = _lib.mjcffi_guard_mj_fwdConstraint(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2749,7 +2749,7 @@ Run selected constraint solver.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_fwdConstraint(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_fwdConstraint(m, d)
@@ -2762,7 +2762,7 @@ def _bind_mj_Euler(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2776,7 +2776,7 @@ def _mj_Euler(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_Euler(c_m, c_d)
     status = _lib.mjcffi_guard_mj_Euler(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2794,7 +2794,7 @@ Euler integrator, semi-implicit in velocity.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_Euler(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_Euler(m, d)
@@ -2810,7 +2810,7 @@ def _bind_mj_RungeKutta(c_m, c_d, N):
             status = guard(c_m, c_d, N)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_RungeKutta", {"N": ("int", N)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2828,7 +2828,7 @@ def _mj_RungeKutta(m, d, N, *, prepare=False):
         status = _lib.mjcffi_guard_mj_RungeKutta(c_m, c_d, N)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_RungeKutta", {"N": ("int", N)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2850,7 +2850,7 @@ Runge-Kutta explicit order-N integrator.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_RungeKutta(m, d, N)
@@ -2863,7 +2863,7 @@ def _bind_mj_implicit(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2877,7 +2877,7 @@ def _mj_implicit(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_implicit(c_m, c_d)
     status = _lib.mjcffi_guard_mj_implicit(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2895,7 +2895,7 @@ Implicit-in-velocity integrators.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_implicit(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_implicit(m, d)
@@ -2908,7 +2908,7 @@ def _bind_mj_invPosition(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2922,7 +2922,7 @@ def _mj_invPosition(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_invPosition(c_m, c_d)
     status = _lib.mjcffi_guard_mj_invPosition(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2940,7 +2940,7 @@ Run position-dependent computations in inverse dynamics.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_invPosition(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_invPosition(m, d)
@@ -2953,7 +2953,7 @@ def _bind_mj_invVelocity(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -2967,7 +2967,7 @@ def _mj_invVelocity(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_invVelocity(c_m, c_d)
     status = _lib.mjcffi_guard_mj_invVelocity(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -2985,7 +2985,7 @@ Run velocity-dependent computations in inverse dynamics.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_invVelocity(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_invVelocity(m, d)
@@ -2998,7 +2998,7 @@ def _bind_mj_invConstraint(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3012,7 +3012,7 @@ def _mj_invConstraint(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_invConstraint(c_m, c_d)
     status = _lib.mjcffi_guard_mj_invConstraint(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3030,7 +3030,7 @@ Apply the analytical formula for inverse constraint dynamics.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_invConstraint(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_invConstraint(m, d)
@@ -3043,7 +3043,7 @@ def _bind_mj_compareFwdInv(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3057,7 +3057,7 @@ def _mj_compareFwdInv(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_compareFwdInv(c_m, c_d)
     status = _lib.mjcffi_guard_mj_compareFwdInv(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3075,7 +3075,7 @@ Compare forward and inverse dynamics, save results in fwdinv.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_compareFwdInv(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_compareFwdInv(m, d)
@@ -3088,7 +3088,7 @@ def _bind_mj_sensorPos(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3102,7 +3102,7 @@ def _mj_sensorPos(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_sensorPos(c_m, c_d)
     status = _lib.mjcffi_guard_mj_sensorPos(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3120,7 +3120,7 @@ Evaluate position-dependent sensors.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_sensorPos(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_sensorPos(m, d)
@@ -3133,7 +3133,7 @@ def _bind_mj_sensorVel(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3147,7 +3147,7 @@ def _mj_sensorVel(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_sensorVel(c_m, c_d)
     status = _lib.mjcffi_guard_mj_sensorVel(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3165,7 +3165,7 @@ Evaluate velocity-dependent sensors.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_sensorVel(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_sensorVel(m, d)
@@ -3178,7 +3178,7 @@ def _bind_mj_sensorAcc(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3192,7 +3192,7 @@ def _mj_sensorAcc(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_sensorAcc(c_m, c_d)
     status = _lib.mjcffi_guard_mj_sensorAcc(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3210,7 +3210,7 @@ Evaluate acceleration and force-dependent sensors.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_sensorAcc(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_sensorAcc(m, d)
@@ -3223,7 +3223,7 @@ def _bind_mj_energyPos(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3237,7 +3237,7 @@ def _mj_energyPos(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_energyPos(c_m, c_d)
     status = _lib.mjcffi_guard_mj_energyPos(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3255,7 +3255,7 @@ Evaluate position-dependent energy (potential).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_energyPos(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_energyPos(m, d)
@@ -3268,7 +3268,7 @@ def _bind_mj_energyVel(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3282,7 +3282,7 @@ def _mj_energyVel(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_energyVel(c_m, c_d)
     status = _lib.mjcffi_guard_mj_energyVel(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3300,7 +3300,7 @@ Evaluate velocity-dependent energy (kinetic).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_energyVel(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_energyVel(m, d)
@@ -3313,7 +3313,7 @@ def _bind_mj_checkPos(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3327,7 +3327,7 @@ def _mj_checkPos(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_checkPos(c_m, c_d)
     status = _lib.mjcffi_guard_mj_checkPos(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3345,7 +3345,7 @@ Check qpos, reset if any element is too big or nan.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_checkPos(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_checkPos(m, d)
@@ -3358,7 +3358,7 @@ def _bind_mj_checkVel(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3372,7 +3372,7 @@ def _mj_checkVel(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_checkVel(c_m, c_d)
     status = _lib.mjcffi_guard_mj_checkVel(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3390,7 +3390,7 @@ Check qvel, reset if any element is too big or nan.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_checkVel(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_checkVel(m, d)
@@ -3403,7 +3403,7 @@ def _bind_mj_checkAcc(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3417,7 +3417,7 @@ def _mj_checkAcc(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_checkAcc(c_m, c_d)
     status = _lib.mjcffi_guard_mj_checkAcc(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3435,7 +3435,7 @@ Check qacc, reset if any element is too big or nan.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_checkAcc(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_checkAcc(m, d)
@@ -3448,7 +3448,7 @@ def _bind_mj_kinematics(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3462,7 +3462,7 @@ def _mj_kinematics(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_kinematics(c_m, c_d)
     status = _lib.mjcffi_guard_mj_kinematics(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3480,7 +3480,7 @@ Run forward kinematics.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_kinematics(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_kinematics(m, d)
@@ -3493,7 +3493,7 @@ def _bind_mj_comPos(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3507,7 +3507,7 @@ def _mj_comPos(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_comPos(c_m, c_d)
     status = _lib.mjcffi_guard_mj_comPos(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3525,7 +3525,7 @@ Map inertias and motion dofs to global frame centered at CoM.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_comPos(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_comPos(m, d)
@@ -3538,7 +3538,7 @@ def _bind_mj_camlight(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3552,7 +3552,7 @@ def _mj_camlight(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_camlight(c_m, c_d)
     status = _lib.mjcffi_guard_mj_camlight(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3570,7 +3570,7 @@ Compute camera and light positions and orientations.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_camlight(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_camlight(m, d)
@@ -3583,7 +3583,7 @@ def _bind_mj_flex(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3597,7 +3597,7 @@ def _mj_flex(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_flex(c_m, c_d)
     status = _lib.mjcffi_guard_mj_flex(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3615,7 +3615,7 @@ Compute flex-related quantities.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_flex(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_flex(m, d)
@@ -3628,7 +3628,7 @@ def _bind_mj_tendon(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3642,7 +3642,7 @@ def _mj_tendon(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_tendon(c_m, c_d)
     status = _lib.mjcffi_guard_mj_tendon(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3660,7 +3660,7 @@ Compute tendon lengths, velocities and moment arms.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_tendon(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_tendon(m, d)
@@ -3673,7 +3673,7 @@ def _bind_mj_transmission(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3687,7 +3687,7 @@ def _mj_transmission(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_transmission(c_m, c_d)
     status = _lib.mjcffi_guard_mj_transmission(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3705,7 +3705,7 @@ Compute actuator transmission lengths and moments.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_transmission(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_transmission(m, d)
@@ -3718,7 +3718,7 @@ def _bind_mj_crb(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3732,7 +3732,7 @@ def _mj_crb(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_crb(c_m, c_d)
     status = _lib.mjcffi_guard_mj_crb(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3750,7 +3750,7 @@ Run composite rigid body inertia algorithm (CRB).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_crb(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_crb(m, d)
@@ -3763,7 +3763,7 @@ def _bind_mj_makeM(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3777,7 +3777,7 @@ def _mj_makeM(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_makeM(c_m, c_d)
     status = _lib.mjcffi_guard_mj_makeM(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3795,7 +3795,7 @@ Make inertia matrix.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_makeM(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_makeM(m, d)
@@ -3808,7 +3808,7 @@ def _bind_mj_factorM(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3822,7 +3822,7 @@ def _mj_factorM(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_factorM(c_m, c_d)
     status = _lib.mjcffi_guard_mj_factorM(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3840,7 +3840,7 @@ Compute sparse L'*D*L factorizaton of inertia matrix.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_factorM(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_factorM(m, d)
@@ -3856,7 +3856,7 @@ def _bind_mj_solveM(c_m, c_d, c_x, c_y, n):
             status = guard(c_m, c_d, c_x, c_y, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_solveM", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3878,7 +3878,7 @@ def _mj_solveM(m, d, x, y, *, prepare=False):
         status = _lib.mjcffi_guard_mj_solveM(c_m, c_d, c_x, c_y, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_solveM", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3915,7 +3915,7 @@ y: array of shape (n, nv).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_solveM(m, d, x, y)
@@ -3931,7 +3931,7 @@ def _bind_mj_solveM2(c_m, c_d, c_x, c_y, c_sqrtInvD, n):
             status = guard(c_m, c_d, c_x, c_y, c_sqrtInvD, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_solveM2", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -3955,7 +3955,7 @@ def _mj_solveM2(m, d, x, y, sqrtInvD, *, prepare=False):
         status = _lib.mjcffi_guard_mj_solveM2(c_m, c_d, c_x, c_y, c_sqrtInvD, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_solveM2", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -3997,7 +3997,7 @@ sqrtInvD: array of the size of (nv,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_solveM2(m, d, x, y, sqrtInvD)
@@ -4010,7 +4010,7 @@ def _bind_mj_comVel(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4024,7 +4024,7 @@ def _mj_comVel(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_comVel(c_m, c_d)
     status = _lib.mjcffi_guard_mj_comVel(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4042,7 +4042,7 @@ Compute cvel, cdof_dot.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_comVel(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_comVel(m, d)
@@ -4055,7 +4055,7 @@ def _bind_mj_passive(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4069,7 +4069,7 @@ def _mj_passive(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_passive(c_m, c_d)
     status = _lib.mjcffi_guard_mj_passive(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4087,7 +4087,7 @@ Compute qfrc_passive from spring-dampers, gravity compensation and fluid forces.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_passive(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_passive(m, d)
@@ -4100,7 +4100,7 @@ def _bind_mj_subtreeVel(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4114,7 +4114,7 @@ def _mj_subtreeVel(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_subtreeVel(c_m, c_d)
     status = _lib.mjcffi_guard_mj_subtreeVel(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4132,7 +4132,7 @@ Sub-tree linear velocity and angular momentum: compute subtree_linvel, subtree_a
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_subtreeVel(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_subtreeVel(m, d)
@@ -4148,7 +4148,7 @@ def _bind_mj_rne(c_m, c_d, flg_acc, c_result):
             status = guard(c_m, c_d, flg_acc, c_result)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_rne", {"flg_acc": ("int", flg_acc)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4167,7 +4167,7 @@ def _mj_rne(m, d, flg_acc, result, *, prepare=False):
         status = _lib.mjcffi_guard_mj_rne(c_m, c_d, flg_acc, c_result)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_rne", {"flg_acc": ("int", flg_acc)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4197,7 +4197,7 @@ result: output array of shape (nv,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_rne(m, d, flg_acc, result)
@@ -4210,7 +4210,7 @@ def _bind_mj_rnePostConstraint(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4224,7 +4224,7 @@ def _mj_rnePostConstraint(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_rnePostConstraint(c_m, c_d)
     status = _lib.mjcffi_guard_mj_rnePostConstraint(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4242,7 +4242,7 @@ RNE with complete data: compute cacc, cfrc_ext, cfrc_int.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_rnePostConstraint(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_rnePostConstraint(m, d)
@@ -4259,7 +4259,7 @@ def _bind_mj_maxContact(c_m, g1, g2, has_margin):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_maxContact", {
                 "g1": ("int", g1), "g2": ("int", g2), "has_margin": ("int", has_margin)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -4284,7 +4284,7 @@ def _mj_maxContact(m, g1, g2, has_margin, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_maxContact", {
             "g1": ("int", g1), "g2": ("int", g2), "has_margin": ("int", has_margin)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -4316,7 +4316,7 @@ g2 must be within 0..ngeom-1.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mj_maxContact(m, g1, g2, has_margin)
@@ -4329,7 +4329,7 @@ def _bind_mj_collision(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4343,7 +4343,7 @@ def _mj_collision(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_collision(c_m, c_d)
     status = _lib.mjcffi_guard_mj_collision(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4361,7 +4361,7 @@ Run collision detection.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_collision(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_collision(m, d)
@@ -4374,7 +4374,7 @@ def _bind_mj_makeConstraint(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4388,7 +4388,7 @@ def _mj_makeConstraint(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_makeConstraint(c_m, c_d)
     status = _lib.mjcffi_guard_mj_makeConstraint(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4406,7 +4406,7 @@ Construct constraints.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_makeConstraint(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_makeConstraint(m, d)
@@ -4419,7 +4419,7 @@ def _bind_mj_island(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4433,7 +4433,7 @@ def _mj_island(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_island(c_m, c_d)
     status = _lib.mjcffi_guard_mj_island(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4451,7 +4451,7 @@ Find constraint islands.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_island(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_island(m, d)
@@ -4464,7 +4464,7 @@ def _bind_mj_projectConstraint(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4478,7 +4478,7 @@ def _mj_projectConstraint(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_projectConstraint(c_m, c_d)
     status = _lib.mjcffi_guard_mj_projectConstraint(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4496,7 +4496,7 @@ Compute inverse constraint inertia efc_AR.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_projectConstraint(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_projectConstraint(m, d)
@@ -4509,7 +4509,7 @@ def _bind_mj_referenceConstraint(c_m, c_d):
 
     def call():
         status = guard(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4523,7 +4523,7 @@ def _mj_referenceConstraint(m, d, *, prepare=False):
     if prepare:
         return _bind_mj_referenceConstraint(c_m, c_d)
     status = _lib.mjcffi_guard_mj_referenceConstraint(c_m, c_d)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4541,7 +4541,7 @@ Compute efc_vel, efc_aref.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_referenceConstraint(c_m, c_d)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_referenceConstraint(m, d)
@@ -4558,7 +4558,7 @@ def _bind_mj_constraintUpdate(c_m, c_d, c_jar, c_cost, flg_coneHessian):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_constraintUpdate", {
                 "flg_coneHessian": ("int", flg_coneHessian)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4579,7 +4579,7 @@ def _mj_constraintUpdate(m, d, jar, cost, flg_coneHessian, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_constraintUpdate", {
             "flg_coneHessian": ("int", flg_coneHessian)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4606,7 +4606,7 @@ def _bind_mj_stateSize(c_m, sig):
             ret = guard(c_m, sig)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_stateSize", {"sig": ("int", sig)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -4625,7 +4625,7 @@ def _mj_stateSize(m, sig, *, prepare=False):
         ret = _lib.mjcffi_guard_mj_stateSize(c_m, sig)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_stateSize", {"sig": ("int", sig)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -4647,7 +4647,7 @@ Return size of state signature.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mj_stateSize(m, sig)
@@ -4663,7 +4663,7 @@ def _bind_mj_getState(c_m, c_d, c_state, sig):
             status = guard(c_m, c_d, c_state, sig)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_getState", {"sig": ("int", sig)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4682,7 +4682,7 @@ def _mj_getState(m, d, state, sig, *, prepare=False):
         status = _lib.mjcffi_guard_mj_getState(c_m, c_d, c_state, sig)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_getState", {"sig": ("int", sig)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4713,7 +4713,7 @@ state: output array of shape (state_size(m, sig),).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_getState(m, d, state, sig)
@@ -4730,7 +4730,7 @@ def _bind_mj_extractState(c_m, c_src, srcsig, c_dst, dstsig):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_extractState", {
                 "srcsig": ("int", srcsig), "dstsig": ("int", dstsig)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4751,7 +4751,7 @@ def _mj_extractState(m, src, srcsig, dst, dstsig, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_extractState", {
             "srcsig": ("int", srcsig), "dstsig": ("int", dstsig)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4787,7 +4787,7 @@ dst: output array of shape (state_size(m, dstsig, 'dstsig'),).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_extractState(m, src, srcsig, dst, dstsig)
@@ -4803,7 +4803,7 @@ def _bind_mj_setState(c_m, c_d, c_state, sig):
             status = guard(c_m, c_d, c_state, sig)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_setState", {"sig": ("int", sig)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4822,7 +4822,7 @@ def _mj_setState(m, d, state, sig, *, prepare=False):
         status = _lib.mjcffi_guard_mj_setState(c_m, c_d, c_state, sig)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_setState", {"sig": ("int", sig)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4852,7 +4852,7 @@ state: array of shape (state_size(m, sig),).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_setState(m, d, state, sig)
@@ -4868,7 +4868,7 @@ def _bind_mj_copyState(c_m, c_src, c_dst, sig):
             status = guard(c_m, c_src, c_dst, sig)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_copyState", {"sig": ("int", sig)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -4887,7 +4887,7 @@ def _mj_copyState(m, src, dst, sig, *, prepare=False):
         status = _lib.mjcffi_guard_mj_copyState(c_m, c_src, c_dst, sig)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_copyState", {"sig": ("int", sig)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -4911,7 +4911,7 @@ Copy state from src to dst.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_copyState(m, src, dst, sig)
@@ -4928,7 +4928,7 @@ def _bind_mj_readCtrl(c_m, c_d, id, time, result, c_result, interp):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_readCtrl", {
                 "id": ("int", id), "time": ("mjtNum", time), "interp": ("int", interp)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.fill(result, ret, c_m.actuator_ctrlnum[id])
     return call
@@ -4952,7 +4952,7 @@ def _mj_readCtrl(m, d, id, time, result, interp, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_readCtrl", {
             "id": ("int", id), "time": ("mjtNum", time), "interp": ("int", interp)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.fill(result, ret, c_m.actuator_ctrlnum[id])
 
@@ -4983,7 +4983,7 @@ def _bind_mj_readSensor(c_m, c_d, id, time, result, c_result, interp):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_readSensor", {
                 "id": ("int", id), "time": ("mjtNum", time), "interp": ("int", interp)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.fill(result, ret, c_m.sensor_dim[id])
     return call
@@ -5007,7 +5007,7 @@ def _mj_readSensor(m, d, id, time, result, interp, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_readSensor", {
             "id": ("int", id), "time": ("mjtNum", time), "interp": ("int", interp)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.fill(result, ret, c_m.sensor_dim[id])
 
@@ -5037,7 +5037,7 @@ def _bind_mj_initCtrlHistory(c_m, c_d, id, c_times, c_values):
             status = guard(c_m, c_d, id, c_times, c_values)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_initCtrlHistory", {"id": ("int", id)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5059,7 +5059,7 @@ def _mj_initCtrlHistory(m, d, id, times, values, *, prepare=False):
         status = _lib.mjcffi_guard_mj_initCtrlHistory(c_m, c_d, id, c_times, c_values)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_initCtrlHistory", {"id": ("int", id)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5087,7 +5087,7 @@ def _bind_mj_initSensorHistory(c_m, c_d, id, c_times, c_values, phase):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_initSensorHistory", {
                 "id": ("int", id), "phase": ("mjtNum", phase)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5110,7 +5110,7 @@ def _mj_initSensorHistory(m, d, id, times, values, phase, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_initSensorHistory", {
             "id": ("int", id), "phase": ("mjtNum", phase)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5138,7 +5138,7 @@ def _bind_mj_setKeyframe(c_m, c_d, k):
             status = guard(c_m, c_d, k)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_setKeyframe", {"k": ("int", k)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5156,7 +5156,7 @@ def _mj_setKeyframe(m, d, k, *, prepare=False):
         status = _lib.mjcffi_guard_mj_setKeyframe(c_m, c_d, k)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_setKeyframe", {"k": ("int", k)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5178,7 +5178,7 @@ Copy current state to the k-th model keyframe.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_setKeyframe(m, d, k)
@@ -5191,7 +5191,7 @@ def _bind_mj_addContact(c_m, c_d, c_con):
 
     def call():
         ret = guard(c_m, c_d, c_con)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -5207,7 +5207,7 @@ def _mj_addContact(m, d, con, *, prepare=False):
     if prepare:
         return _bind_mj_addContact(c_m, c_d, c_con)
     ret = _lib.mjcffi_guard_mj_addContact(c_m, c_d, c_con)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -5228,7 +5228,7 @@ def _bind_mj_isPyramidal(c_m):
 
     def call():
         ret = guard(c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -5243,7 +5243,7 @@ def _mj_isPyramidal(m, *, prepare=False):
     if prepare:
         return _bind_mj_isPyramidal(c_m)
     ret = _lib.mjcffi_guard_mj_isPyramidal(c_m)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -5261,7 +5261,7 @@ Determine type of friction cone.
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mj_isPyramidal(c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mj_isPyramidal(m)
@@ -5274,7 +5274,7 @@ def _bind_mj_isSparse(c_m):
 
     def call():
         ret = guard(c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -5289,7 +5289,7 @@ def _mj_isSparse(m, *, prepare=False):
     if prepare:
         return _bind_mj_isSparse(c_m)
     ret = _lib.mjcffi_guard_mj_isSparse(c_m)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -5307,7 +5307,7 @@ Determine type of constraint Jacobian.
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mj_isSparse(c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mj_isSparse(m)
@@ -5320,7 +5320,7 @@ def _bind_mj_isDual(c_m):
 
     def call():
         ret = guard(c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -5335,7 +5335,7 @@ def _mj_isDual(m, *, prepare=False):
     if prepare:
         return _bind_mj_isDual(c_m)
     ret = _lib.mjcffi_guard_mj_isDual(c_m)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -5353,7 +5353,7 @@ Determine type of solver (PGS is dual, CG and Newton are primal).
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mj_isDual(c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mj_isDual(m)
@@ -5366,7 +5366,7 @@ def _bind_mj_mulJacVec(c_m, c_d, c_res, c_vec):
 
     def call():
         status = guard(c_m, c_d, c_res, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5382,7 +5382,7 @@ def _mj_mulJacVec(m, d, res, vec, *, prepare=False):
     if prepare:
         return _bind_mj_mulJacVec(c_m, c_d, c_res, c_vec)
     status = _lib.mjcffi_guard_mj_mulJacVec(c_m, c_d, c_res, c_vec)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5405,7 +5405,7 @@ def _bind_mj_mulJacTVec(c_m, c_d, c_res, c_vec):
 
     def call():
         status = guard(c_m, c_d, c_res, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5421,7 +5421,7 @@ def _mj_mulJacTVec(m, d, res, vec, *, prepare=False):
     if prepare:
         return _bind_mj_mulJacTVec(c_m, c_d, c_res, c_vec)
     status = _lib.mjcffi_guard_mj_mulJacTVec(c_m, c_d, c_res, c_vec)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5447,7 +5447,7 @@ def _bind_mj_jac(c_m, c_d, c_jacp, c_jacr, c_point, body):
             status = guard(c_m, c_d, c_jacp, c_jacr, c_point, body)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_jac", {"body": ("int", body)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5470,7 +5470,7 @@ def _mj_jac(m, d, jacp, jacr, point, body, *, prepare=False):
         status = _lib.mjcffi_guard_mj_jac(c_m, c_d, c_jacp, c_jacr, c_point, body)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_jac", {"body": ("int", body)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5509,7 +5509,7 @@ point: array of shape (3,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_jac(m, d, jacp, jacr, point, body)
@@ -5525,7 +5525,7 @@ def _bind_mj_jacBody(c_m, c_d, c_jacp, c_jacr, body):
             status = guard(c_m, c_d, c_jacp, c_jacr, body)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_jacBody", {"body": ("int", body)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5547,7 +5547,7 @@ def _mj_jacBody(m, d, jacp, jacr, body, *, prepare=False):
         status = _lib.mjcffi_guard_mj_jacBody(c_m, c_d, c_jacp, c_jacr, body)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_jacBody", {"body": ("int", body)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5581,7 +5581,7 @@ jacr: output array of shape (3, nv) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_jacBody(m, d, jacp, jacr, body)
@@ -5597,7 +5597,7 @@ def _bind_mj_jacBodyCom(c_m, c_d, c_jacp, c_jacr, body):
             status = guard(c_m, c_d, c_jacp, c_jacr, body)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_jacBodyCom", {"body": ("int", body)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5619,7 +5619,7 @@ def _mj_jacBodyCom(m, d, jacp, jacr, body, *, prepare=False):
         status = _lib.mjcffi_guard_mj_jacBodyCom(c_m, c_d, c_jacp, c_jacr, body)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_jacBodyCom", {"body": ("int", body)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5653,7 +5653,7 @@ jacr: output array of shape (3, nv) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_jacBodyCom(m, d, jacp, jacr, body)
@@ -5669,7 +5669,7 @@ def _bind_mj_jacSubtreeCom(c_m, c_d, c_jacp, body):
             status = guard(c_m, c_d, c_jacp, body)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_jacSubtreeCom", {"body": ("int", body)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5690,7 +5690,7 @@ def _mj_jacSubtreeCom(m, d, jacp, body, *, prepare=False):
         status = _lib.mjcffi_guard_mj_jacSubtreeCom(c_m, c_d, c_jacp, body)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_jacSubtreeCom", {"body": ("int", body)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5723,7 +5723,7 @@ jacp: output array of shape (3, nv).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_jacSubtreeCom(m, d, jacp, body)
@@ -5739,7 +5739,7 @@ def _bind_mj_jacGeom(c_m, c_d, c_jacp, c_jacr, geom):
             status = guard(c_m, c_d, c_jacp, c_jacr, geom)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_jacGeom", {"geom": ("int", geom)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5761,7 +5761,7 @@ def _mj_jacGeom(m, d, jacp, jacr, geom, *, prepare=False):
         status = _lib.mjcffi_guard_mj_jacGeom(c_m, c_d, c_jacp, c_jacr, geom)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_jacGeom", {"geom": ("int", geom)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5795,7 +5795,7 @@ jacr: output array of shape (3, nv) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_jacGeom(m, d, jacp, jacr, geom)
@@ -5811,7 +5811,7 @@ def _bind_mj_jacSite(c_m, c_d, c_jacp, c_jacr, site):
             status = guard(c_m, c_d, c_jacp, c_jacr, site)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_jacSite", {"site": ("int", site)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5833,7 +5833,7 @@ def _mj_jacSite(m, d, jacp, jacr, site, *, prepare=False):
         status = _lib.mjcffi_guard_mj_jacSite(c_m, c_d, c_jacp, c_jacr, site)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_jacSite", {"site": ("int", site)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5867,7 +5867,7 @@ jacr: output array of shape (3, nv) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_jacSite(m, d, jacp, jacr, site)
@@ -5883,7 +5883,7 @@ def _bind_mj_jacPointAxis(c_m, c_d, c_jacPoint, c_jacAxis, c_point, c_axis, body
             status = guard(c_m, c_d, c_jacPoint, c_jacAxis, c_point, c_axis, body)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_jacPointAxis", {"body": ("int", body)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5908,7 +5908,7 @@ def _mj_jacPointAxis(m, d, jacPoint, jacAxis, point, axis, body, *, prepare=Fals
             c_m, c_d, c_jacPoint, c_jacAxis, c_point, c_axis, body)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_jacPointAxis", {"body": ("int", body)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -5952,7 +5952,7 @@ axis: array of shape (3,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_jacPointAxis(m, d, jacPoint, jacAxis, point, axis, body)
@@ -5968,7 +5968,7 @@ def _bind_mj_jacDot(c_m, c_d, c_jacp, c_jacr, c_point, body):
             status = guard(c_m, c_d, c_jacp, c_jacr, c_point, body)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_jacDot", {"body": ("int", body)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -5991,7 +5991,7 @@ def _mj_jacDot(m, d, jacp, jacr, point, body, *, prepare=False):
         status = _lib.mjcffi_guard_mj_jacDot(c_m, c_d, c_jacp, c_jacr, c_point, body)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_jacDot", {"body": ("int", body)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6030,7 +6030,7 @@ point: array of shape (3,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_jacDot(m, d, jacp, jacr, point, body)
@@ -6046,7 +6046,7 @@ def _bind_mj_angmomMat(c_m, c_d, c_mat, body):
             status = guard(c_m, c_d, c_mat, body)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_angmomMat", {"body": ("int", body)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6067,7 +6067,7 @@ def _mj_angmomMat(m, d, mat, body, *, prepare=False):
         status = _lib.mjcffi_guard_mj_angmomMat(c_m, c_d, c_mat, body)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_angmomMat", {"body": ("int", body)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6100,7 +6100,7 @@ mat: output array of shape (3, nv).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_angmomMat(m, d, mat, body)
@@ -6117,7 +6117,7 @@ def _bind_mj_id2name(c_m, type, id):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_id2name", {
                 "type": ("int", type), "id": ("int", id)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -6137,7 +6137,7 @@ def _mj_id2name(m, type, id, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_id2name", {
             "type": ("int", type), "id": ("int", id)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -6159,7 +6159,7 @@ Get name of object with the specified mjtObj type and id; return NULL if name no
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return _m.string(ret)
     return _mj_id2name(m, type, id)
@@ -6176,7 +6176,7 @@ def _bind_mj_actuatorInputName(c_m, id, input):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_actuatorInputName", {
                 "id": ("int", id), "input": ("int", input)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -6196,7 +6196,7 @@ def _mj_actuatorInputName(m, id, input, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_actuatorInputName", {
             "id": ("int", id), "input": ("int", input)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -6219,7 +6219,7 @@ return NULL if the actuator type defines no input names.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return _m.string(ret)
     return _mj_actuatorInputName(m, id, input)
@@ -6232,7 +6232,7 @@ def _bind_mj_fullM(c_m, c_d, c_dst):
 
     def call():
         status = guard(c_m, c_d, c_dst)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6247,7 +6247,7 @@ def _mj_fullM(m, d, dst, *, prepare=False):
     if prepare:
         return _bind_mj_fullM(c_m, c_d, c_dst)
     status = _lib.mjcffi_guard_mj_fullM(c_m, c_d, c_dst)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6274,7 +6274,7 @@ dst: output array of shape (nv, nv).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_fullM(c_m, c_d, c_dst)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_fullM(m, d, dst)
@@ -6287,7 +6287,7 @@ def _bind_mj_mulM(c_m, c_d, c_res, c_vec):
 
     def call():
         status = guard(c_m, c_d, c_res, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6303,7 +6303,7 @@ def _mj_mulM(m, d, res, vec, *, prepare=False):
     if prepare:
         return _bind_mj_mulM(c_m, c_d, c_res, c_vec)
     status = _lib.mjcffi_guard_mj_mulM(c_m, c_d, c_res, c_vec)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6335,7 +6335,7 @@ vec: array of shape (nv,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_mulM(c_m, c_d, c_res, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_mulM(m, d, res, vec)
@@ -6348,7 +6348,7 @@ def _bind_mj_mulM2(c_m, c_d, c_res, c_vec):
 
     def call():
         status = guard(c_m, c_d, c_res, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6364,7 +6364,7 @@ def _mj_mulM2(m, d, res, vec, *, prepare=False):
     if prepare:
         return _bind_mj_mulM2(c_m, c_d, c_res, c_vec)
     status = _lib.mjcffi_guard_mj_mulM2(c_m, c_d, c_res, c_vec)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6396,7 +6396,7 @@ vec: array of shape (nv,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_mulM2(c_m, c_d, c_res, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_mulM2(m, d, res, vec)
@@ -6409,7 +6409,7 @@ def _bind_mj_addM(c_m, c_d, c_dst, c_rownnz, c_rowadr, c_colind):
 
     def call():
         status = guard(c_m, c_d, c_dst, c_rownnz, c_rowadr, c_colind)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6428,7 +6428,7 @@ def _mj_addM(m, d, dst, rownnz=None, rowadr=None, colind=None, *, prepare=False)
     if prepare:
         return _bind_mj_addM(c_m, c_d, c_dst, c_rownnz, c_rowadr, c_colind)
     status = _lib.mjcffi_guard_mj_addM(c_m, c_d, c_dst, c_rownnz, c_rowadr, c_colind)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6454,7 +6454,7 @@ def _bind_mj_applyFT(c_m, c_d, c_force, c_torque, c_point, body, c_qfrc_target):
             status = guard(c_m, c_d, c_force, c_torque, c_point, body, c_qfrc_target)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_applyFT", {"body": ("int", body)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6479,7 +6479,7 @@ def _mj_applyFT(m, d, force, torque, point, body, qfrc_target, *, prepare=False)
             c_m, c_d, c_force, c_torque, c_point, body, c_qfrc_target)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_applyFT", {"body": ("int", body)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6523,7 +6523,7 @@ qfrc_target: output array of shape (nv,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_applyFT(m, d, force, torque, point, body, qfrc_target)
@@ -6541,7 +6541,7 @@ def _bind_mj_objectVelocity(c_m, c_d, objtype, objid, c_res, flg_local):
             raise _m.scalar_error(exc, "mj_objectVelocity", {
                 "objtype": ("int", objtype), "objid": ("int", objid),
                 "flg_local": ("int", flg_local)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6563,7 +6563,7 @@ def _mj_objectVelocity(m, d, objtype, objid, res, flg_local, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_objectVelocity", {
             "objtype": ("int", objtype), "objid": ("int", objid), "flg_local": ("int", flg_local)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6596,7 +6596,7 @@ res: output array of shape (6,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_objectVelocity(m, d, objtype, objid, res, flg_local)
@@ -6614,7 +6614,7 @@ def _bind_mj_objectAcceleration(c_m, c_d, objtype, objid, c_res, flg_local):
             raise _m.scalar_error(exc, "mj_objectAcceleration", {
                 "objtype": ("int", objtype), "objid": ("int", objid),
                 "flg_local": ("int", flg_local)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6636,7 +6636,7 @@ def _mj_objectAcceleration(m, d, objtype, objid, res, flg_local, *, prepare=Fals
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_objectAcceleration", {
             "objtype": ("int", objtype), "objid": ("int", objid), "flg_local": ("int", flg_local)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6669,7 +6669,7 @@ res: output array of shape (6,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_objectAcceleration(m, d, objtype, objid, res, flg_local)
@@ -6686,7 +6686,7 @@ def _bind_mj_geomDistance(c_m, c_d, geom1, geom2, distmax, c_fromto):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_geomDistance", {
                 "geom1": ("int", geom1), "geom2": ("int", geom2), "distmax": ("mjtNum", distmax)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -6713,7 +6713,7 @@ def _mj_geomDistance(m, d, geom1, geom2, distmax, fromto=None, *, prepare=False)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_geomDistance", {
             "geom1": ("int", geom1), "geom2": ("int", geom2), "distmax": ("mjtNum", distmax)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -6748,7 +6748,7 @@ fromto: output array of the size of (6,) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mj_geomDistance(m, d, geom1, geom2, distmax, fromto)
@@ -6764,7 +6764,7 @@ def _bind_mj_insideSite(c_m, c_d, siteid, c_point):
             ret = guard(c_m, c_d, siteid, c_point)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_insideSite", {"siteid": ("int", siteid)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -6786,7 +6786,7 @@ def _mj_insideSite(m, d, siteid, point, *, prepare=False):
         ret = _lib.mjcffi_guard_mj_insideSite(c_m, c_d, siteid, c_point)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_insideSite", {"siteid": ("int", siteid)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -6819,7 +6819,7 @@ point: array of shape (3,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mj_insideSite(m, d, siteid, point)
@@ -6835,7 +6835,7 @@ def _bind_mj_contactForce(c_m, c_d, id, c_result):
             status = guard(c_m, c_d, id, c_result)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_contactForce", {"id": ("int", id)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6854,7 +6854,7 @@ def _mj_contactForce(m, d, id, result, *, prepare=False):
         status = _lib.mjcffi_guard_mj_contactForce(c_m, c_d, id, c_result)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_contactForce", {"id": ("int", id)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6884,7 +6884,7 @@ result: output array of shape (6,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_contactForce(m, d, id, result)
@@ -6900,7 +6900,7 @@ def _bind_mj_differentiatePos(c_m, c_qvel, dt, c_qpos1, c_qpos2):
             status = guard(c_m, c_qvel, dt, c_qpos1, c_qpos2)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_differentiatePos", {"dt": ("mjtNum", dt)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6921,7 +6921,7 @@ def _mj_differentiatePos(m, qvel, dt, qpos1, qpos2, *, prepare=False):
         status = _lib.mjcffi_guard_mj_differentiatePos(c_m, c_qvel, dt, c_qpos1, c_qpos2)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_differentiatePos", {"dt": ("mjtNum", dt)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -6961,7 +6961,7 @@ qpos2: array of shape (nq,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_differentiatePos(m, qvel, dt, qpos1, qpos2)
@@ -6977,7 +6977,7 @@ def _bind_mj_integratePos(c_m, c_qpos, c_qvel, dt):
             status = guard(c_m, c_qpos, c_qvel, dt)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_integratePos", {"dt": ("mjtNum", dt)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -6997,7 +6997,7 @@ def _mj_integratePos(m, qpos, qvel, dt, *, prepare=False):
         status = _lib.mjcffi_guard_mj_integratePos(c_m, c_qpos, c_qvel, dt)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_integratePos", {"dt": ("mjtNum", dt)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -7031,7 +7031,7 @@ qvel: array of shape (nv,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_integratePos(m, qpos, qvel, dt)
@@ -7044,7 +7044,7 @@ def _bind_mj_normalizeQuat(c_m, c_qpos):
 
     def call():
         status = guard(c_m, c_qpos)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -7059,7 +7059,7 @@ def _mj_normalizeQuat(m, qpos, *, prepare=False):
     if prepare:
         return _bind_mj_normalizeQuat(c_m, c_qpos)
     status = _lib.mjcffi_guard_mj_normalizeQuat(c_m, c_qpos)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -7084,7 +7084,7 @@ qpos: output array of shape (nq,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_normalizeQuat(c_m, c_qpos)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_normalizeQuat(m, qpos)
@@ -7101,7 +7101,7 @@ def _bind_mj_local2Global(c_d, c_xpos, c_xmat, c_pos, c_quat, body, sameframe):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_local2Global", {
                 "body": ("int", body), "sameframe": ("mjtByte", sameframe)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -7129,7 +7129,7 @@ def _mj_local2Global(d, xpos, xmat, pos, quat, body, sameframe, *, prepare=False
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_local2Global", {
             "body": ("int", body), "sameframe": ("mjtByte", sameframe)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -7155,7 +7155,7 @@ def _bind_mj_getTotalmass(c_m):
 
     def call():
         ret = guard(c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -7170,7 +7170,7 @@ def _mj_getTotalmass(m, *, prepare=False):
     if prepare:
         return _bind_mj_getTotalmass(c_m)
     ret = _lib.mjcffi_guard_mj_getTotalmass(c_m)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -7188,7 +7188,7 @@ Sum all body masses.
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mj_getTotalmass(c_m)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mj_getTotalmass(m)
@@ -7205,7 +7205,7 @@ def _bind_mj_setTotalmass(c_m, newmass):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_setTotalmass", {
                 "newmass": ("mjtNum", newmass)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -7223,7 +7223,7 @@ def _mj_setTotalmass(m, newmass, *, prepare=False):
         status = _lib.mjcffi_guard_mj_setTotalmass(c_m, newmass)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_setTotalmass", {"newmass": ("mjtNum", newmass)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -7244,7 +7244,7 @@ Scale body masses and inertias to achieve specified total mass.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_setTotalmass(m, newmass)
@@ -7261,7 +7261,7 @@ def _bind_mj_getPluginConfig(c_m, plugin_id, c_attrib):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_getPluginConfig", {
                 "plugin_id": ("int", plugin_id)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -7282,7 +7282,7 @@ def _mj_getPluginConfig(m, plugin_id, attrib, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_getPluginConfig", {
             "plugin_id": ("int", plugin_id)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -7308,7 +7308,7 @@ NULL: invalid plugin instance ID or attribute name
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return _m.string(ret)
     return _mj_getPluginConfig(m, plugin_id, attrib)
@@ -7321,7 +7321,7 @@ def _bind_mj_loadPluginLibrary(c_path):
 
     def call():
         status = guard(c_path)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -7335,7 +7335,7 @@ def _mj_loadPluginLibrary(path, *, prepare=False):
     if prepare:
         return _bind_mj_loadPluginLibrary(c_path)
     status = _lib.mjcffi_guard_mj_loadPluginLibrary(c_path)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -7353,7 +7353,7 @@ Load a dynamic library. The dynamic library is assumed to register one or more p
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_loadPluginLibrary(c_path)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mj_loadPluginLibrary(path)
@@ -7366,7 +7366,7 @@ def _bind_mj_loadAllPluginLibraries(c_directory):
 
     def call():
         status = guard(c_directory, _m.NULL)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -7380,7 +7380,7 @@ def _mj_loadAllPluginLibraries(directory, *, prepare=False):
     if prepare:
         return _bind_mj_loadAllPluginLibraries(c_directory)
     status = _lib.mjcffi_guard_mj_loadAllPluginLibraries(c_directory, _m.NULL)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -7402,7 +7402,7 @@ def _bind_mj_version():
 
     def call():
         ret = guard()
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -7416,7 +7416,7 @@ def _mj_version(*, prepare=False):
     if prepare:
         return _bind_mj_version()
     ret = _lib.mjcffi_guard_mj_version()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -7428,7 +7428,7 @@ def mj_version():
 Return version number: 1.0.2 is encoded as 102.
 """
     ret = _lib.mjcffi_guard_mj_version()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
     return _mj_version()
@@ -7441,7 +7441,7 @@ def _bind_mj_versionString():
 
     def call():
         ret = guard()
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -7455,7 +7455,7 @@ def _mj_versionString(*, prepare=False):
     if prepare:
         return _bind_mj_versionString()
     ret = _lib.mjcffi_guard_mj_versionString()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -7467,7 +7467,7 @@ def mj_versionString():
 Return the current version of MuJoCo as a null-terminated string.
 """
     ret = _lib.mjcffi_guard_mj_versionString()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
     return _mj_versionString()
@@ -7485,7 +7485,7 @@ def _bind_mj_ray(c_m, c_d, c_pnt, c_vec, c_geomgroup, flg_static, bodyexclude, c
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_ray", {
                 "flg_static": ("mjtBool", flg_static), "bodyexclude": ("int", bodyexclude)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -7515,7 +7515,7 @@ def _mj_ray(m, d, pnt, vec, geomgroup, flg_static, bodyexclude, geomid=None, nor
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_ray", {
             "flg_static": ("mjtBool", flg_static), "bodyexclude": ("int", bodyexclude)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -7564,7 +7564,7 @@ normal: output array of shape (3,) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mj_ray(m, d, pnt, vec, geomgroup, flg_static, bodyexclude, geomid, normal)
@@ -7586,7 +7586,7 @@ def _bind_mj_multiRay(
             raise _m.scalar_error(exc, "mj_multiRay", {
                 "flg_static": ("mjtBool", flg_static), "bodyexclude": ("int", bodyexclude),
                 "nray": ("int", nray), "cutoff": ("mjtNum", cutoff)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -7623,7 +7623,7 @@ def _mj_multiRay(m, d, pnt, vec, geomgroup, flg_static, bodyexclude, geomid, dis
         raise _m.scalar_error(exc, "mj_multiRay", {
             "flg_static": ("mjtBool", flg_static), "bodyexclude": ("int", bodyexclude),
             "nray": ("int", nray), "cutoff": ("mjtNum", cutoff)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -7656,7 +7656,7 @@ def _bind_mj_rayHfield(c_m, c_d, geomid, c_pnt, c_vec, c_normal):
             ret = guard(c_m, c_d, geomid, c_pnt, c_vec, c_normal)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_rayHfield", {"geomid": ("int", geomid)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -7680,7 +7680,7 @@ def _mj_rayHfield(m, d, geomid, pnt, vec, normal=None, *, prepare=False):
         ret = _lib.mjcffi_guard_mj_rayHfield(c_m, c_d, geomid, c_pnt, c_vec, c_normal)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_rayHfield", {"geomid": ("int", geomid)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -7721,7 +7721,7 @@ normal: output array of shape (3,) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mj_rayHfield(m, d, geomid, pnt, vec, normal)
@@ -7737,7 +7737,7 @@ def _bind_mj_rayMesh(c_m, c_d, geomid, c_pnt, c_vec, c_normal):
             ret = guard(c_m, c_d, geomid, c_pnt, c_vec, c_normal)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_rayMesh", {"geomid": ("int", geomid)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -7761,7 +7761,7 @@ def _mj_rayMesh(m, d, geomid, pnt, vec, normal=None, *, prepare=False):
         ret = _lib.mjcffi_guard_mj_rayMesh(c_m, c_d, geomid, c_pnt, c_vec, c_normal)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_rayMesh", {"geomid": ("int", geomid)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -7802,7 +7802,7 @@ normal: output array of shape (3,) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mj_rayMesh(m, d, geomid, pnt, vec, normal)
@@ -7818,7 +7818,7 @@ def _bind_mju_rayGeom(c_pos, c_mat, c_size, c_pnt, c_vec, geomtype, c_normal):
             ret = guard(c_pos, c_mat, c_size, c_pnt, c_vec, geomtype, c_normal)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_rayGeom", {"geomtype": ("int", geomtype)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -7842,7 +7842,7 @@ def _mju_rayGeom(pos, mat, size, pnt, vec, geomtype, normal=None, *, prepare=Fal
         ret = _lib.mjcffi_guard_mju_rayGeom(c_pos, c_mat, c_size, c_pnt, c_vec, geomtype, c_normal)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_rayGeom", {"geomtype": ("int", geomtype)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -7892,7 +7892,7 @@ normal: output array of shape (3,) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_rayGeom(pos, mat, size, pnt, vec, geomtype, normal)
@@ -7915,7 +7915,7 @@ def _bind_mj_rayFlex(
                 "flex_layer": ("int", flex_layer), "flg_vert": ("mjtBool", flg_vert),
                 "flg_edge": ("mjtBool", flg_edge), "flg_face": ("mjtBool", flg_face),
                 "flg_skin": ("mjtBool", flg_skin), "flexid": ("int", flexid)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -7950,7 +7950,7 @@ def _mj_rayFlex(m, d, flex_layer, flg_vert, flg_edge, flg_face, flg_skin, flexid
             "flex_layer": ("int", flex_layer), "flg_vert": ("mjtBool", flg_vert),
             "flg_edge": ("mjtBool", flg_edge), "flg_face": ("mjtBool", flg_face),
             "flg_skin": ("mjtBool", flg_skin), "flexid": ("int", flexid)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -7995,7 +7995,7 @@ normal: output array of shape (3,) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mj_rayFlex(m, d, flex_layer, flg_vert, flg_edge, flg_face, flg_skin, flexid, pnt, vec, vertid, normal)
@@ -8012,7 +8012,7 @@ def _bind_mju_raySkin(nface, nvert, c_face, c_vert, c_pnt, c_vec, c_vertid):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_raySkin", {
                 "nface": ("int", nface), "nvert": ("int", nvert)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -8041,7 +8041,7 @@ def _mju_raySkin(nface, nvert, face, vert, pnt, vec, vertid=None, *, prepare=Fal
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_raySkin", {
             "nface": ("int", nface), "nvert": ("int", nvert)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -8069,7 +8069,7 @@ def _bind_mjv_defaultCamera(c_cam):
 
     def call():
         status = guard(c_cam)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8083,7 +8083,7 @@ def _mjv_defaultCamera(cam, *, prepare=False):
     if prepare:
         return _bind_mjv_defaultCamera(c_cam)
     status = _lib.mjcffi_guard_mjv_defaultCamera(c_cam)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8103,7 +8103,7 @@ def _bind_mjv_defaultFreeCamera(c_m, c_cam):
 
     def call():
         status = guard(c_m, c_cam)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8118,7 +8118,7 @@ def _mjv_defaultFreeCamera(m, cam, *, prepare=False):
     if prepare:
         return _bind_mjv_defaultFreeCamera(c_m, c_cam)
     status = _lib.mjcffi_guard_mjv_defaultFreeCamera(c_m, c_cam)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8138,7 +8138,7 @@ def _bind_mjv_defaultPerturb(c_pert):
 
     def call():
         status = guard(c_pert)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8152,7 +8152,7 @@ def _mjv_defaultPerturb(pert, *, prepare=False):
     if prepare:
         return _bind_mjv_defaultPerturb(c_pert)
     status = _lib.mjcffi_guard_mjv_defaultPerturb(c_pert)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8172,7 +8172,7 @@ def _bind_mjv_room2model(c_modelpos, c_modelquat, c_roompos, c_roomquat, c_scn):
 
     def call():
         status = guard(c_modelpos, c_modelquat, c_roompos, c_roomquat, c_scn)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8190,7 +8190,7 @@ def _mjv_room2model(modelpos, modelquat, roompos, roomquat, scn, *, prepare=Fals
     if prepare:
         return _bind_mjv_room2model(c_modelpos, c_modelquat, c_roompos, c_roomquat, c_scn)
     status = _lib.mjcffi_guard_mjv_room2model(c_modelpos, c_modelquat, c_roompos, c_roomquat, c_scn)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8215,7 +8215,7 @@ def _bind_mjv_model2room(c_roompos, c_roomquat, c_modelpos, c_modelquat, c_scn):
 
     def call():
         status = guard(c_roompos, c_roomquat, c_modelpos, c_modelquat, c_scn)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8233,7 +8233,7 @@ def _mjv_model2room(roompos, roomquat, modelpos, modelquat, scn, *, prepare=Fals
     if prepare:
         return _bind_mjv_model2room(c_roompos, c_roomquat, c_modelpos, c_modelquat, c_scn)
     status = _lib.mjcffi_guard_mjv_model2room(c_roompos, c_roomquat, c_modelpos, c_modelquat, c_scn)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8258,7 +8258,7 @@ def _bind_mjv_cameraInModel(c_headpos, c_forward, c_up, c_scn):
 
     def call():
         status = guard(c_headpos, c_forward, c_up, c_scn)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8275,7 +8275,7 @@ def _mjv_cameraInModel(headpos, forward, up, scn, *, prepare=False):
     if prepare:
         return _bind_mjv_cameraInModel(c_headpos, c_forward, c_up, c_scn)
     status = _lib.mjcffi_guard_mjv_cameraInModel(c_headpos, c_forward, c_up, c_scn)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8299,7 +8299,7 @@ def _bind_mjv_cameraInRoom(c_headpos, c_forward, c_up, c_scn):
 
     def call():
         status = guard(c_headpos, c_forward, c_up, c_scn)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8316,7 +8316,7 @@ def _mjv_cameraInRoom(headpos, forward, up, scn, *, prepare=False):
     if prepare:
         return _bind_mjv_cameraInRoom(c_headpos, c_forward, c_up, c_scn)
     status = _lib.mjcffi_guard_mjv_cameraInRoom(c_headpos, c_forward, c_up, c_scn)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8340,7 +8340,7 @@ def _bind_mjv_frustumHeight(c_scn):
 
     def call():
         ret = guard(c_scn)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -8355,7 +8355,7 @@ def _mjv_frustumHeight(scn, *, prepare=False):
     if prepare:
         return _bind_mjv_frustumHeight(c_scn)
     ret = _lib.mjcffi_guard_mjv_frustumHeight(c_scn)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -8376,7 +8376,7 @@ def _bind_mjv_alignToCamera(c_res, c_vec, c_forward):
 
     def call():
         status = guard(c_res, c_vec, c_forward)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8392,7 +8392,7 @@ def _mjv_alignToCamera(res, vec, forward, *, prepare=False):
     if prepare:
         return _bind_mjv_alignToCamera(c_res, c_vec, c_forward)
     status = _lib.mjcffi_guard_mjv_alignToCamera(c_res, c_vec, c_forward)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8425,7 +8425,7 @@ forward: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mjv_alignToCamera(c_res, c_vec, c_forward)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mjv_alignToCamera(res, vec, forward)
@@ -8442,7 +8442,7 @@ def _bind_mjv_moveCamera(c_m, action, reldx, reldy, c_cam):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjv_moveCamera", {
                 "action": ("int", action), "reldx": ("mjtNum", reldx), "reldy": ("mjtNum", reldy)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8463,7 +8463,7 @@ def _mjv_moveCamera(m, action, reldx, reldy, cam, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjv_moveCamera", {
             "action": ("int", action), "reldx": ("mjtNum", reldx), "reldy": ("mjtNum", reldy)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8487,7 +8487,7 @@ def _bind_mjv_movePerturb(c_m, c_d, action, reldx, reldy, c_scn, c_pert):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjv_movePerturb", {
                 "action": ("int", action), "reldx": ("mjtNum", reldx), "reldy": ("mjtNum", reldy)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8510,7 +8510,7 @@ def _mjv_movePerturb(m, d, action, reldx, reldy, scn, pert, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjv_movePerturb", {
             "action": ("int", action), "reldx": ("mjtNum", reldx), "reldy": ("mjtNum", reldy)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8534,7 +8534,7 @@ def _bind_mjv_moveModel(c_m, action, reldx, reldy, c_roomup, c_scn):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjv_moveModel", {
                 "action": ("int", action), "reldx": ("mjtNum", reldx), "reldy": ("mjtNum", reldy)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8556,7 +8556,7 @@ def _mjv_moveModel(m, action, reldx, reldy, roomup, scn, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjv_moveModel", {
             "action": ("int", action), "reldx": ("mjtNum", reldx), "reldy": ("mjtNum", reldy)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8578,7 +8578,7 @@ def _bind_mjv_initPerturb(c_m, c_d, c_scn, c_pert):
 
     def call():
         status = guard(c_m, c_d, c_scn, c_pert)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8595,7 +8595,7 @@ def _mjv_initPerturb(m, d, scn, pert, *, prepare=False):
     if prepare:
         return _bind_mjv_initPerturb(c_m, c_d, c_scn, c_pert)
     status = _lib.mjcffi_guard_mjv_initPerturb(c_m, c_d, c_scn, c_pert)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8619,7 +8619,7 @@ def _bind_mjv_applyPerturbPose(c_m, c_d, c_pert, flg_paused):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjv_applyPerturbPose", {
                 "flg_paused": ("int", flg_paused)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8640,7 +8640,7 @@ def _mjv_applyPerturbPose(m, d, pert, flg_paused, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjv_applyPerturbPose", {
             "flg_paused": ("int", flg_paused)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8661,7 +8661,7 @@ def _bind_mjv_applyPerturbForce(c_m, c_d, c_pert):
 
     def call():
         status = guard(c_m, c_d, c_pert)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8677,7 +8677,7 @@ def _mjv_applyPerturbForce(m, d, pert, *, prepare=False):
     if prepare:
         return _bind_mjv_applyPerturbForce(c_m, c_d, c_pert)
     status = _lib.mjcffi_guard_mjv_applyPerturbForce(c_m, c_d, c_pert)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8776,7 +8776,7 @@ def _bind_mjv_select(
             raise _m.scalar_error(exc, "mjv_select", {
                 "aspectratio": ("mjtNum", aspectratio), "relx": ("mjtNum", relx),
                 "rely": ("mjtNum", rely)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -8809,7 +8809,7 @@ def _mjv_select(m, d, vopt, aspectratio, relx, rely, scn, selpnt, geomid, flexid
         raise _m.scalar_error(exc, "mjv_select", {
             "aspectratio": ("mjtNum", aspectratio), "relx": ("mjtNum", relx),
             "rely": ("mjtNum", rely)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -8836,7 +8836,7 @@ def _bind_mjv_defaultOption(c_opt):
 
     def call():
         status = guard(c_opt)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8850,7 +8850,7 @@ def _mjv_defaultOption(opt, *, prepare=False):
     if prepare:
         return _bind_mjv_defaultOption(c_opt)
     status = _lib.mjcffi_guard_mjv_defaultOption(c_opt)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8870,7 +8870,7 @@ def _bind_mjv_defaultFigure(c_fig):
 
     def call():
         status = guard(c_fig)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8884,7 +8884,7 @@ def _mjv_defaultFigure(fig, *, prepare=False):
     if prepare:
         return _bind_mjv_defaultFigure(c_fig)
     status = _lib.mjcffi_guard_mjv_defaultFigure(c_fig)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8907,7 +8907,7 @@ def _bind_mjv_initGeom(c_geom, type, c_size, c_pos, c_mat, c_rgba):
             status = guard(c_geom, type, c_size, c_pos, c_mat, c_rgba)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjv_initGeom", {"type": ("int", type)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8929,7 +8929,7 @@ def _mjv_initGeom(geom, type, size=None, pos=None, mat=None, rgba=None, *, prepa
         status = _lib.mjcffi_guard_mjv_initGeom(c_geom, type, c_size, c_pos, c_mat, c_rgba)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjv_initGeom", {"type": ("int", type)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -8958,7 +8958,7 @@ def _bind_mjv_connector(c_geom, type, width, c_from_, c_to):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjv_connector", {
                 "type": ("int", type), "width": ("mjtNum", width)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -8979,7 +8979,7 @@ def _mjv_connector(geom, type, width, from_, to, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjv_connector", {
             "type": ("int", type), "width": ("mjtNum", width)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9007,7 +9007,7 @@ def _bind_mjv_updateScene(c_m, c_d, c_opt, c_pert, c_cam, catmask, c_scn):
             status = guard(c_m, c_d, c_opt, c_pert, c_cam, catmask, c_scn)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjv_updateScene", {"catmask": ("int", catmask)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9031,7 +9031,7 @@ def _mjv_updateScene(m, d, opt, pert, cam, catmask, scn, *, prepare=False):
         status = _lib.mjcffi_guard_mjv_updateScene(c_m, c_d, c_opt, c_pert, c_cam, catmask, c_scn)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjv_updateScene", {"catmask": ("int", catmask)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9069,7 +9069,7 @@ def _bind_mjv_addGeoms(c_m, c_d, c_opt, c_pert, catmask, c_scn):
             status = guard(c_m, c_d, c_opt, c_pert, catmask, c_scn)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjv_addGeoms", {"catmask": ("int", catmask)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9091,7 +9091,7 @@ def _mjv_addGeoms(m, d, opt, pert, catmask, scn, *, prepare=False):
         status = _lib.mjcffi_guard_mjv_addGeoms(c_m, c_d, c_opt, c_pert, catmask, c_scn)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjv_addGeoms", {"catmask": ("int", catmask)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9111,7 +9111,7 @@ def _bind_mjv_makeLights(c_m, c_d, c_scn):
 
     def call():
         status = guard(c_m, c_d, c_scn)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9126,7 +9126,7 @@ def _mjv_makeLights(m, d, scn, *, prepare=False):
     if prepare:
         return _bind_mjv_makeLights(c_m, c_d, c_scn)
     status = _lib.mjcffi_guard_mjv_makeLights(c_m, c_d, c_scn)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9146,7 +9146,7 @@ def _bind_mjv_updateCamera(c_m, c_d, c_cam, c_scn):
 
     def call():
         status = guard(c_m, c_d, c_cam, c_scn)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9162,7 +9162,7 @@ def _mjv_updateCamera(m, d, cam, scn, *, prepare=False):
     if prepare:
         return _bind_mjv_updateCamera(c_m, c_d, c_cam, c_scn)
     status = _lib.mjcffi_guard_mjv_updateCamera(c_m, c_d, c_cam, c_scn)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9182,7 +9182,7 @@ def _bind_mjv_updateSkin(c_m, c_d, c_scn):
 
     def call():
         status = guard(c_m, c_d, c_scn)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9198,7 +9198,7 @@ def _mjv_updateSkin(m, d, scn, *, prepare=False):
     if prepare:
         return _bind_mjv_updateSkin(c_m, c_d, c_scn)
     status = _lib.mjcffi_guard_mjv_updateSkin(c_m, c_d, c_scn)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9220,7 +9220,7 @@ def _bind_mjv_cameraFrame(c_headpos, c_forward, c_up, c_right, c_d, c_cam):
 
     def call():
         status = guard(c_headpos, c_forward, c_up, c_right, c_d, c_cam)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9240,7 +9240,7 @@ def _mjv_cameraFrame(headpos, forward, up, right, d, cam, *, prepare=False):
     if prepare:
         return _bind_mjv_cameraFrame(c_headpos, c_forward, c_up, c_right, c_d, c_cam)
     status = _lib.mjcffi_guard_mjv_cameraFrame(c_headpos, c_forward, c_up, c_right, c_d, c_cam)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9265,7 +9265,7 @@ def _bind_mjv_cameraFrustum(c_zver, c_zhor, c_zclip, c_m, c_cam):
 
     def call():
         status = guard(c_zver, c_zhor, c_zclip, c_m, c_cam)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9283,7 +9283,7 @@ def _mjv_cameraFrustum(zver, zhor, zclip, m, cam, *, prepare=False):
     if prepare:
         return _bind_mjv_cameraFrustum(c_zver, c_zhor, c_zclip, c_m, c_cam)
     status = _lib.mjcffi_guard_mjv_cameraFrustum(c_zver, c_zhor, c_zclip, c_m, c_cam)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9307,7 +9307,7 @@ def _bind_mjr_defaultContext(c_con):
 
     def call():
         status = guard(c_con)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9321,7 +9321,7 @@ def _mjr_defaultContext(con, *, prepare=False):
     if prepare:
         return _bind_mjr_defaultContext(c_con)
     status = _lib.mjcffi_guard_mjr_defaultContext(c_con)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9341,7 +9341,7 @@ def _bind_mjr_defaultRendererInfo(c_info):
 
     def call():
         status = guard(c_info)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9355,7 +9355,7 @@ def _mjr_defaultRendererInfo(info, *, prepare=False):
     if prepare:
         return _bind_mjr_defaultRendererInfo(c_info)
     status = _lib.mjcffi_guard_mjr_defaultRendererInfo(c_info)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9375,7 +9375,7 @@ def _bind_mjr_getRendererInfo(c_info):
 
     def call():
         status = guard(c_info)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9389,7 +9389,7 @@ def _mjr_getRendererInfo(info, *, prepare=False):
     if prepare:
         return _bind_mjr_getRendererInfo(c_info)
     status = _lib.mjcffi_guard_mjr_getRendererInfo(c_info)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9413,7 +9413,7 @@ def _bind_mjr_changeFont(fontscale, c_con):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_changeFont", {
                 "fontscale": ("int", fontscale)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9440,7 +9440,7 @@ def _mjr_changeFont(fontscale, con, *, prepare=False):
         status = _lib.mjcffi_guard_mjr_changeFont(fontscale, c_con)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_changeFont", {"fontscale": ("int", fontscale)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9468,7 +9468,7 @@ def _bind_mjr_addAux(index, width, height, samples, c_con):
             raise _m.scalar_error(exc, "mjr_addAux", {
                 "index": ("int", index), "width": ("int", width), "height": ("int", height),
                 "samples": ("int", samples)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9499,7 +9499,7 @@ def _mjr_addAux(index, width, height, samples, con, *, prepare=False):
         raise _m.scalar_error(exc, "mjr_addAux", {
             "index": ("int", index), "width": ("int", width), "height": ("int", height),
             "samples": ("int", samples)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9525,7 +9525,7 @@ def _bind_mjr_resizeOffscreen(width, height, c_con):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_resizeOffscreen", {
                 "width": ("int", width), "height": ("int", height)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9555,7 +9555,7 @@ def _mjr_resizeOffscreen(width, height, con, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_resizeOffscreen", {
             "width": ("int", width), "height": ("int", height)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9580,7 +9580,7 @@ def _bind_mjr_uploadTexture(c_m, c_con, texid):
             status = guard(c_m, c_con, texid)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_uploadTexture", {"texid": ("int", texid)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9609,7 +9609,7 @@ def _mjr_uploadTexture(m, con, texid, *, prepare=False):
         status = _lib.mjcffi_guard_mjr_uploadTexture(c_m, c_con, texid)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_uploadTexture", {"texid": ("int", texid)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9636,7 +9636,7 @@ def _bind_mjr_uploadMesh(c_m, c_con, meshid):
             status = guard(c_m, c_con, meshid)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_uploadMesh", {"meshid": ("int", meshid)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9665,7 +9665,7 @@ def _mjr_uploadMesh(m, con, meshid, *, prepare=False):
         status = _lib.mjcffi_guard_mjr_uploadMesh(c_m, c_con, meshid)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_uploadMesh", {"meshid": ("int", meshid)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9692,7 +9692,7 @@ def _bind_mjr_uploadHField(c_m, c_con, hfieldid):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_uploadHField", {
                 "hfieldid": ("int", hfieldid)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9721,7 +9721,7 @@ def _mjr_uploadHField(m, con, hfieldid, *, prepare=False):
         status = _lib.mjcffi_guard_mjr_uploadHField(c_m, c_con, hfieldid)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_uploadHField", {"hfieldid": ("int", hfieldid)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9744,7 +9744,7 @@ def _bind_mjr_restoreBuffer(c_con):
 
     def call():
         status = guard(c_con)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9759,7 +9759,7 @@ def _mjr_restoreBuffer(con, *, prepare=False):
     if prepare:
         return _bind_mjr_restoreBuffer(c_con)
     status = _lib.mjcffi_guard_mjr_restoreBuffer(c_con)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9785,7 +9785,7 @@ def _bind_mjr_setBuffer(framebuffer, c_con):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_setBuffer", {
                 "framebuffer": ("int", framebuffer)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9812,7 +9812,7 @@ def _mjr_setBuffer(framebuffer, con, *, prepare=False):
         status = _lib.mjcffi_guard_mjr_setBuffer(framebuffer, c_con)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_setBuffer", {"framebuffer": ("int", framebuffer)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9840,7 +9840,7 @@ def _bind_mjr_blitBuffer(c_src, c_dst, flg_color, flg_depth, c_con):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_blitBuffer", {
                 "flg_color": ("int", flg_color), "flg_depth": ("int", flg_depth)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9872,7 +9872,7 @@ def _mjr_blitBuffer(src, dst, flg_color, flg_depth, con, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_blitBuffer", {
             "flg_color": ("int", flg_color), "flg_depth": ("int", flg_depth)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9898,7 +9898,7 @@ def _bind_mjr_setAux(index, c_con):
             status = guard(index, c_con)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_setAux", {"index": ("int", index)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9923,7 +9923,7 @@ def _mjr_setAux(index, con, *, prepare=False):
         status = _lib.mjcffi_guard_mjr_setAux(index, c_con)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_setAux", {"index": ("int", index)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -9949,7 +9949,7 @@ def _bind_mjr_blitAux(index, c_src, left, bottom, c_con):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_blitAux", {
                 "index": ("int", index), "left": ("int", left), "bottom": ("int", bottom)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -9979,7 +9979,7 @@ def _mjr_blitAux(index, src, left, bottom, con, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_blitAux", {
             "index": ("int", index), "left": ("int", left), "bottom": ("int", bottom)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10006,7 +10006,7 @@ def _bind_mjr_text(font, c_txt, c_con, x, y, r, g, b):
             raise _m.scalar_error(exc, "mjr_text", {
                 "font": ("int", font), "x": ("float", x), "y": ("float", y), "r": ("float", r),
                 "g": ("float", g), "b": ("float", b)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10041,7 +10041,7 @@ def _mjr_text(font, txt, con, x, y, r, g, b, *, prepare=False):
         raise _m.scalar_error(exc, "mjr_text", {
             "font": ("int", font), "x": ("float", x), "y": ("float", y), "r": ("float", r),
             "g": ("float", g), "b": ("float", b)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10068,7 +10068,7 @@ def _bind_mjr_overlay(font, gridpos, c_viewport, c_overlay, c_overlay2, c_con):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_overlay", {
                 "font": ("int", font), "gridpos": ("int", gridpos)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10104,7 +10104,7 @@ def _mjr_overlay(font, gridpos, viewport, overlay, overlay2, con, *, prepare=Fal
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_overlay", {
             "font": ("int", font), "gridpos": ("int", gridpos)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10169,7 +10169,7 @@ def _bind_mjr_rectangle(c_viewport, r, g, b, a):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjr_rectangle", {
                 "r": ("float", r), "g": ("float", g), "b": ("float", b), "a": ("float", a)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10197,7 +10197,7 @@ def _mjr_rectangle(viewport, r, g, b, a, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjr_rectangle", {
             "r": ("float", r), "g": ("float", g), "b": ("float", b), "a": ("float", a)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10224,7 +10224,7 @@ def _bind_mjr_label(c_viewport, font, c_txt, r, g, b, a, rt, gt, bt, c_con):
             raise _m.scalar_error(exc, "mjr_label", {
                 "font": ("int", font), "r": ("float", r), "g": ("float", g), "b": ("float", b),
                 "a": ("float", a), "rt": ("float", rt), "gt": ("float", gt), "bt": ("float", bt)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10260,7 +10260,7 @@ def _mjr_label(viewport, font, txt, r, g, b, a, rt, gt, bt, con, *, prepare=Fals
         raise _m.scalar_error(exc, "mjr_label", {
             "font": ("int", font), "r": ("float", r), "g": ("float", g), "b": ("float", b),
             "a": ("float", a), "rt": ("float", rt), "gt": ("float", gt), "bt": ("float", bt)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10283,7 +10283,7 @@ def _bind_mjr_figure(c_viewport, c_fig, c_con):
 
     def call():
         status = guard(c_viewport, c_fig, c_con)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10301,7 +10301,7 @@ def _mjr_figure(viewport, fig, con, *, prepare=False):
     if prepare:
         return _bind_mjr_figure(c_viewport, c_fig, c_con)
     status = _lib.mjcffi_guard_mjr_figure(c_viewport, c_fig, c_con)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10323,7 +10323,7 @@ def _bind_mjr_render(c_viewport, c_scn, c_con):
 
     def call():
         status = guard(c_viewport, c_scn, c_con)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10341,7 +10341,7 @@ def _mjr_render(viewport, scn, con, *, prepare=False):
     if prepare:
         return _bind_mjr_render(c_viewport, c_scn, c_con)
     status = _lib.mjcffi_guard_mjr_render(c_viewport, c_scn, c_con)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10363,7 +10363,7 @@ def _bind_mjr_finish():
 
     def call():
         status = guard()
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10377,7 +10377,7 @@ def _mjr_finish(*, prepare=False):
     if prepare:
         return _bind_mjr_finish()
     status = _lib.mjcffi_guard_mjr_finish()
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10399,7 +10399,7 @@ def _bind_mjr_getError():
 
     def call():
         ret = guard()
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -10414,7 +10414,7 @@ def _mjr_getError(*, prepare=False):
     if prepare:
         return _bind_mjr_getError()
     ret = _lib.mjcffi_guard_mjr_getError()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -10531,7 +10531,7 @@ def _bind_mju_error(c_msg):
 
     def call():
         status = guard(c_msg)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10545,7 +10545,7 @@ def _mju_error(msg, *, prepare=False):
     if prepare:
         return _bind_mju_error(c_msg)
     status = _lib.mjcffi_guard_mju_error(c_msg)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10565,7 +10565,7 @@ def _bind_mju_warning(c_msg):
 
     def call():
         status = guard(c_msg)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10579,7 +10579,7 @@ def _mju_warning(msg, *, prepare=False):
     if prepare:
         return _bind_mju_warning(c_msg)
     status = _lib.mjcffi_guard_mju_warning(c_msg)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10599,7 +10599,7 @@ def _bind_mju_clearHandlers():
 
     def call():
         status = guard()
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10612,7 +10612,7 @@ def _mju_clearHandlers(*, prepare=False):
     if prepare:
         return _bind_mju_clearHandlers()
     status = _lib.mjcffi_guard_mju_clearHandlers()
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10623,7 +10623,7 @@ def mju_clearHandlers():
 Clear user error and memory handlers.
 """
     status = _lib.mjcffi_guard_mju_clearHandlers()
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
     return
     return _mju_clearHandlers()
@@ -10650,7 +10650,7 @@ def _bind_mju_setLogConfig(c_config):
 
     def call():
         status = guard(c_config)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10664,7 +10664,7 @@ def _mju_setLogConfig(config, *, prepare=False):
     if prepare:
         return _bind_mju_setLogConfig(c_config)
     status = _lib.mjcffi_guard_mju_setLogConfig(c_config)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10687,7 +10687,7 @@ def _bind_mju_info(topic, c_msg):
             status = guard(topic, c_msg)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_info", {"topic": ("int", topic)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10705,7 +10705,7 @@ def _mju_info(topic, msg, *, prepare=False):
         status = _lib.mjcffi_guard_mju_info(topic, c_msg)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_info", {"topic": ("int", topic)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10725,7 +10725,7 @@ def _bind_mju_message(c_msg):
 
     def call():
         status = guard(c_msg)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10739,7 +10739,7 @@ def _mju_message(msg, *, prepare=False):
     if prepare:
         return _bind_mju_message(c_msg)
     status = _lib.mjcffi_guard_mju_message(c_msg)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10763,7 +10763,7 @@ def _bind_mj_warning(c_d, warning, info):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_warning", {
                 "warning": ("int", warning), "info": ("int", info)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10782,7 +10782,7 @@ def _mj_warning(d, warning, info, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_warning", {
             "warning": ("int", warning), "info": ("int", info)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10803,7 +10803,7 @@ High-level warning function: count warnings in mjData, print only the first.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_warning(d, warning, info)
@@ -10816,7 +10816,7 @@ def _bind_mju_writeLog(c_type, c_msg):
 
     def call():
         status = guard(c_type, c_msg)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -10831,7 +10831,7 @@ def _mju_writeLog(type, msg, *, prepare=False):
     if prepare:
         return _bind_mju_writeLog(c_type, c_msg)
     status = _lib.mjcffi_guard_mju_writeLog(c_type, c_msg)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -10851,7 +10851,7 @@ Write [datetime, type: message] to MUJOCO_LOG.TXT.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_writeLog(c_type, c_msg)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_writeLog(type, msg)
@@ -10864,7 +10864,7 @@ def _bind_mjs_getError(c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -10879,7 +10879,7 @@ def _mjs_getError(s, *, prepare=False):
     if prepare:
         return _bind_mjs_getError(c_s)
     ret = _lib.mjcffi_guard_mjs_getError(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -10900,7 +10900,7 @@ def _bind_mjs_getTimer(c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.copy_array(ret, 9, _m.NUM)
     return call
@@ -10915,7 +10915,7 @@ def _mjs_getTimer(s, *, prepare=False):
     if prepare:
         return _bind_mjs_getTimer(c_s)
     ret = _lib.mjcffi_guard_mjs_getTimer(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.copy_array(ret, 9, _m.NUM)
 
@@ -10936,7 +10936,7 @@ def _bind_mjs_isWarning(c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -10951,7 +10951,7 @@ def _mjs_isWarning(s, *, prepare=False):
     if prepare:
         return _bind_mjs_isWarning(c_s)
     ret = _lib.mjcffi_guard_mjs_isWarning(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -10972,7 +10972,7 @@ def _bind_mjs_numWarnings(c_spec):
 
     def call():
         ret = guard(c_spec)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -10987,7 +10987,7 @@ def _mjs_numWarnings(spec, *, prepare=False):
     if prepare:
         return _bind_mjs_numWarnings(c_spec)
     ret = _lib.mjcffi_guard_mjs_numWarnings(c_spec)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -11011,7 +11011,7 @@ def _bind_mjs_getWarning(c_spec, index):
             ret = guard(c_spec, index)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_getWarning", {"index": ("int", index)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -11030,7 +11030,7 @@ def _mjs_getWarning(spec, index, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_getWarning(c_spec, index)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_getWarning", {"index": ("int", index)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -11051,7 +11051,7 @@ def _bind_mju_zero3(c_res):
 
     def call():
         status = guard(c_res)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11065,7 +11065,7 @@ def _mju_zero3(res, *, prepare=False):
     if prepare:
         return _bind_mju_zero3(c_res)
     status = _lib.mjcffi_guard_mju_zero3(c_res)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11088,7 +11088,7 @@ res: output array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_zero3(c_res)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_zero3(res)
@@ -11101,7 +11101,7 @@ def _bind_mju_copy3(c_res, c_data):
 
     def call():
         status = guard(c_res, c_data)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11116,7 +11116,7 @@ def _mju_copy3(res, data, *, prepare=False):
     if prepare:
         return _bind_mju_copy3(c_res, c_data)
     status = _lib.mjcffi_guard_mju_copy3(c_res, c_data)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11144,7 +11144,7 @@ data: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_copy3(c_res, c_data)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_copy3(res, data)
@@ -11160,7 +11160,7 @@ def _bind_mju_scl3(c_res, c_vec, scl):
             status = guard(c_res, c_vec, scl)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_scl3", {"scl": ("mjtNum", scl)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11179,7 +11179,7 @@ def _mju_scl3(res, vec, scl, *, prepare=False):
         status = _lib.mjcffi_guard_mju_scl3(c_res, c_vec, scl)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_scl3", {"scl": ("mjtNum", scl)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11211,7 +11211,7 @@ vec: array of shape (3,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_scl3(res, vec, scl)
@@ -11224,7 +11224,7 @@ def _bind_mju_add3(c_res, c_vec1, c_vec2):
 
     def call():
         status = guard(c_res, c_vec1, c_vec2)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11240,7 +11240,7 @@ def _mju_add3(res, vec1, vec2, *, prepare=False):
     if prepare:
         return _bind_mju_add3(c_res, c_vec1, c_vec2)
     status = _lib.mjcffi_guard_mju_add3(c_res, c_vec1, c_vec2)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11273,7 +11273,7 @@ vec2: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_add3(c_res, c_vec1, c_vec2)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_add3(res, vec1, vec2)
@@ -11286,7 +11286,7 @@ def _bind_mju_sub3(c_res, c_vec1, c_vec2):
 
     def call():
         status = guard(c_res, c_vec1, c_vec2)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11302,7 +11302,7 @@ def _mju_sub3(res, vec1, vec2, *, prepare=False):
     if prepare:
         return _bind_mju_sub3(c_res, c_vec1, c_vec2)
     status = _lib.mjcffi_guard_mju_sub3(c_res, c_vec1, c_vec2)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11335,7 +11335,7 @@ vec2: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_sub3(c_res, c_vec1, c_vec2)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_sub3(res, vec1, vec2)
@@ -11348,7 +11348,7 @@ def _bind_mju_addTo3(c_res, c_vec):
 
     def call():
         status = guard(c_res, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11363,7 +11363,7 @@ def _mju_addTo3(res, vec, *, prepare=False):
     if prepare:
         return _bind_mju_addTo3(c_res, c_vec)
     status = _lib.mjcffi_guard_mju_addTo3(c_res, c_vec)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11391,7 +11391,7 @@ vec: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_addTo3(c_res, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_addTo3(res, vec)
@@ -11404,7 +11404,7 @@ def _bind_mju_subFrom3(c_res, c_vec):
 
     def call():
         status = guard(c_res, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11419,7 +11419,7 @@ def _mju_subFrom3(res, vec, *, prepare=False):
     if prepare:
         return _bind_mju_subFrom3(c_res, c_vec)
     status = _lib.mjcffi_guard_mju_subFrom3(c_res, c_vec)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11447,7 +11447,7 @@ vec: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_subFrom3(c_res, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_subFrom3(res, vec)
@@ -11463,7 +11463,7 @@ def _bind_mju_addToScl3(c_res, c_vec, scl):
             status = guard(c_res, c_vec, scl)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_addToScl3", {"scl": ("mjtNum", scl)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11482,7 +11482,7 @@ def _mju_addToScl3(res, vec, scl, *, prepare=False):
         status = _lib.mjcffi_guard_mju_addToScl3(c_res, c_vec, scl)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_addToScl3", {"scl": ("mjtNum", scl)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11514,7 +11514,7 @@ vec: array of shape (3,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_addToScl3(res, vec, scl)
@@ -11530,7 +11530,7 @@ def _bind_mju_addScl3(c_res, c_vec1, c_vec2, scl):
             status = guard(c_res, c_vec1, c_vec2, scl)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_addScl3", {"scl": ("mjtNum", scl)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11550,7 +11550,7 @@ def _mju_addScl3(res, vec1, vec2, scl, *, prepare=False):
         status = _lib.mjcffi_guard_mju_addScl3(c_res, c_vec1, c_vec2, scl)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_addScl3", {"scl": ("mjtNum", scl)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11587,7 +11587,7 @@ vec2: array of shape (3,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_addScl3(res, vec1, vec2, scl)
@@ -11600,7 +11600,7 @@ def _bind_mju_normalize3(c_vec):
 
     def call():
         ret = guard(c_vec)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -11615,7 +11615,7 @@ def _mju_normalize3(vec, *, prepare=False):
     if prepare:
         return _bind_mju_normalize3(c_vec)
     ret = _lib.mjcffi_guard_mju_normalize3(c_vec)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -11639,7 +11639,7 @@ vec: output array of shape (3,).
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mju_normalize3(c_vec)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_normalize3(vec)
@@ -11652,7 +11652,7 @@ def _bind_mju_norm3(c_vec):
 
     def call():
         ret = guard(c_vec)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -11667,7 +11667,7 @@ def _mju_norm3(vec, *, prepare=False):
     if prepare:
         return _bind_mju_norm3(c_vec)
     ret = _lib.mjcffi_guard_mju_norm3(c_vec)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -11690,7 +11690,7 @@ vec: array of shape (3,).
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mju_norm3(c_vec)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_norm3(vec)
@@ -11703,7 +11703,7 @@ def _bind_mju_dot3(c_vec1, c_vec2):
 
     def call():
         ret = guard(c_vec1, c_vec2)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -11719,7 +11719,7 @@ def _mju_dot3(vec1, vec2, *, prepare=False):
     if prepare:
         return _bind_mju_dot3(c_vec1, c_vec2)
     ret = _lib.mjcffi_guard_mju_dot3(c_vec1, c_vec2)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -11747,7 +11747,7 @@ vec2: array of shape (3,).
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mju_dot3(c_vec1, c_vec2)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_dot3(vec1, vec2)
@@ -11760,7 +11760,7 @@ def _bind_mju_dist3(c_pos1, c_pos2):
 
     def call():
         ret = guard(c_pos1, c_pos2)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -11776,7 +11776,7 @@ def _mju_dist3(pos1, pos2, *, prepare=False):
     if prepare:
         return _bind_mju_dist3(c_pos1, c_pos2)
     ret = _lib.mjcffi_guard_mju_dist3(c_pos1, c_pos2)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -11804,7 +11804,7 @@ pos2: array of shape (3,).
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mju_dist3(c_pos1, c_pos2)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_dist3(pos1, pos2)
@@ -11817,7 +11817,7 @@ def _bind_mju_mulMatVec3(c_res, c_mat, c_vec):
 
     def call():
         status = guard(c_res, c_mat, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11833,7 +11833,7 @@ def _mju_mulMatVec3(res, mat, vec, *, prepare=False):
     if prepare:
         return _bind_mju_mulMatVec3(c_res, c_mat, c_vec)
     status = _lib.mjcffi_guard_mju_mulMatVec3(c_res, c_mat, c_vec)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11866,7 +11866,7 @@ vec: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_mulMatVec3(c_res, c_mat, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_mulMatVec3(res, mat, vec)
@@ -11879,7 +11879,7 @@ def _bind_mju_mulMatTVec3(c_res, c_mat, c_vec):
 
     def call():
         status = guard(c_res, c_mat, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11895,7 +11895,7 @@ def _mju_mulMatTVec3(res, mat, vec, *, prepare=False):
     if prepare:
         return _bind_mju_mulMatTVec3(c_res, c_mat, c_vec)
     status = _lib.mjcffi_guard_mju_mulMatTVec3(c_res, c_mat, c_vec)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11928,7 +11928,7 @@ vec: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_mulMatTVec3(c_res, c_mat, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_mulMatTVec3(res, mat, vec)
@@ -11941,7 +11941,7 @@ def _bind_mju_cross(c_res, c_a, c_b):
 
     def call():
         status = guard(c_res, c_a, c_b)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -11957,7 +11957,7 @@ def _mju_cross(res, a, b, *, prepare=False):
     if prepare:
         return _bind_mju_cross(c_res, c_a, c_b)
     status = _lib.mjcffi_guard_mju_cross(c_res, c_a, c_b)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -11990,7 +11990,7 @@ b: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_cross(c_res, c_a, c_b)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_cross(res, a, b)
@@ -12003,7 +12003,7 @@ def _bind_mju_zero4(c_res):
 
     def call():
         status = guard(c_res)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12017,7 +12017,7 @@ def _mju_zero4(res, *, prepare=False):
     if prepare:
         return _bind_mju_zero4(c_res)
     status = _lib.mjcffi_guard_mju_zero4(c_res)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12040,7 +12040,7 @@ res: output array of shape (4,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_zero4(c_res)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_zero4(res)
@@ -12053,7 +12053,7 @@ def _bind_mju_unit4(c_res):
 
     def call():
         status = guard(c_res)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12067,7 +12067,7 @@ def _mju_unit4(res, *, prepare=False):
     if prepare:
         return _bind_mju_unit4(c_res)
     status = _lib.mjcffi_guard_mju_unit4(c_res)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12090,7 +12090,7 @@ res: output array of shape (4,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_unit4(c_res)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_unit4(res)
@@ -12103,7 +12103,7 @@ def _bind_mju_copy4(c_res, c_data):
 
     def call():
         status = guard(c_res, c_data)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12118,7 +12118,7 @@ def _mju_copy4(res, data, *, prepare=False):
     if prepare:
         return _bind_mju_copy4(c_res, c_data)
     status = _lib.mjcffi_guard_mju_copy4(c_res, c_data)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12146,7 +12146,7 @@ data: array of shape (4,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_copy4(c_res, c_data)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_copy4(res, data)
@@ -12159,7 +12159,7 @@ def _bind_mju_normalize4(c_vec):
 
     def call():
         ret = guard(c_vec)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -12174,7 +12174,7 @@ def _mju_normalize4(vec, *, prepare=False):
     if prepare:
         return _bind_mju_normalize4(c_vec)
     ret = _lib.mjcffi_guard_mju_normalize4(c_vec)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -12198,7 +12198,7 @@ vec: output array of shape (4,).
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mju_normalize4(c_vec)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_normalize4(vec)
@@ -12214,7 +12214,7 @@ def _bind_mju_zero(c_res, n):
             status = guard(c_res, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_zero", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12234,7 +12234,7 @@ def _mju_zero(res, *, prepare=False):
         status = _lib.mjcffi_guard_mju_zero(c_res, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_zero", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12261,7 +12261,7 @@ res: output array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_zero(res)
@@ -12278,7 +12278,7 @@ def _bind_mju_fill(c_res, val, n):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_fill", {
                 "val": ("mjtNum", val), "n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12298,7 +12298,7 @@ def _mju_fill(res, val, *, prepare=False):
         status = _lib.mjcffi_guard_mju_fill(c_res, val, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_fill", {"val": ("mjtNum", val), "n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12325,7 +12325,7 @@ res: output array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_fill(res, val)
@@ -12341,7 +12341,7 @@ def _bind_mju_copy(c_res, c_vec, n):
             status = guard(c_res, c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_copy", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12362,7 +12362,7 @@ def _mju_copy(res, vec, *, prepare=False):
         status = _lib.mjcffi_guard_mju_copy(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_copy", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12394,7 +12394,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_copy(res, vec)
@@ -12410,7 +12410,7 @@ def _bind_mju_sum(c_vec, n):
             ret = guard(c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_sum", {"n": ("int", n)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -12431,7 +12431,7 @@ def _mju_sum(vec, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_sum(c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_sum", {"n": ("int", n)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -12458,7 +12458,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_sum(vec)
@@ -12474,7 +12474,7 @@ def _bind_mju_L1(c_vec, n):
             ret = guard(c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_L1", {"n": ("int", n)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -12495,7 +12495,7 @@ def _mju_L1(vec, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_L1(c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_L1", {"n": ("int", n)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -12522,7 +12522,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_L1(vec)
@@ -12539,7 +12539,7 @@ def _bind_mju_scl(c_res, c_vec, scl, n):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_scl", {
                 "scl": ("mjtNum", scl), "n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12560,7 +12560,7 @@ def _mju_scl(res, vec, scl, *, prepare=False):
         status = _lib.mjcffi_guard_mju_scl(c_res, c_vec, scl, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_scl", {"scl": ("mjtNum", scl), "n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12592,7 +12592,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_scl(res, vec, scl)
@@ -12608,7 +12608,7 @@ def _bind_mju_add(c_res, c_vec1, c_vec2, n):
             status = guard(c_res, c_vec1, c_vec2, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_add", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12630,7 +12630,7 @@ def _mju_add(res, vec1, vec2, *, prepare=False):
         status = _lib.mjcffi_guard_mju_add(c_res, c_vec1, c_vec2, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_add", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12667,7 +12667,7 @@ vec2: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_add(res, vec1, vec2)
@@ -12683,7 +12683,7 @@ def _bind_mju_sub(c_res, c_vec1, c_vec2, n):
             status = guard(c_res, c_vec1, c_vec2, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_sub", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12705,7 +12705,7 @@ def _mju_sub(res, vec1, vec2, *, prepare=False):
         status = _lib.mjcffi_guard_mju_sub(c_res, c_vec1, c_vec2, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_sub", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12742,7 +12742,7 @@ vec2: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_sub(res, vec1, vec2)
@@ -12758,7 +12758,7 @@ def _bind_mju_addTo(c_res, c_vec, n):
             status = guard(c_res, c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_addTo", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12779,7 +12779,7 @@ def _mju_addTo(res, vec, *, prepare=False):
         status = _lib.mjcffi_guard_mju_addTo(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_addTo", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12811,7 +12811,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_addTo(res, vec)
@@ -12827,7 +12827,7 @@ def _bind_mju_subFrom(c_res, c_vec, n):
             status = guard(c_res, c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_subFrom", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12848,7 +12848,7 @@ def _mju_subFrom(res, vec, *, prepare=False):
         status = _lib.mjcffi_guard_mju_subFrom(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_subFrom", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12880,7 +12880,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_subFrom(res, vec)
@@ -12897,7 +12897,7 @@ def _bind_mju_addToScl(c_res, c_vec, scl, n):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_addToScl", {
                 "scl": ("mjtNum", scl), "n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12919,7 +12919,7 @@ def _mju_addToScl(res, vec, scl, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_addToScl", {
             "scl": ("mjtNum", scl), "n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -12951,7 +12951,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_addToScl(res, vec, scl)
@@ -12968,7 +12968,7 @@ def _bind_mju_addScl(c_res, c_vec1, c_vec2, scl, n):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_addScl", {
                 "scl": ("mjtNum", scl), "n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -12991,7 +12991,7 @@ def _mju_addScl(res, vec1, vec2, scl, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_addScl", {
             "scl": ("mjtNum", scl), "n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -13028,7 +13028,7 @@ vec2: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_addScl(res, vec1, vec2, scl)
@@ -13044,7 +13044,7 @@ def _bind_mju_normalize(c_res, n):
             ret = guard(c_res, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_normalize", {"n": ("int", n)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -13065,7 +13065,7 @@ def _mju_normalize(res, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_normalize(c_res, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_normalize", {"n": ("int", n)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -13093,7 +13093,7 @@ res: output array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_normalize(res)
@@ -13109,7 +13109,7 @@ def _bind_mju_norm(c_res, n):
             ret = guard(c_res, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_norm", {"n": ("int", n)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -13130,7 +13130,7 @@ def _mju_norm(res, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_norm(c_res, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_norm", {"n": ("int", n)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -13157,7 +13157,7 @@ res: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_norm(res)
@@ -13173,7 +13173,7 @@ def _bind_mju_dot(c_vec1, c_vec2, n):
             ret = guard(c_vec1, c_vec2, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_dot", {"n": ("int", n)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -13195,7 +13195,7 @@ def _mju_dot(vec1, vec2, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_dot(c_vec1, c_vec2, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_dot", {"n": ("int", n)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -13227,7 +13227,7 @@ vec2: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_dot(vec1, vec2)
@@ -13244,7 +13244,7 @@ def _bind_mju_mulMatVec(c_res, c_mat, c_vec, nr, nc):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_mulMatVec", {
                 "nr": ("int", nr), "nc": ("int", nc)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -13269,7 +13269,7 @@ def _mju_mulMatVec(res, mat, vec, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_mulMatVec", {
             "nr": ("int", nr), "nc": ("int", nc)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -13306,7 +13306,7 @@ vec: array of shape (nc,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_mulMatVec(res, mat, vec)
@@ -13323,7 +13323,7 @@ def _bind_mju_mulMatTVec(c_res, c_mat, c_vec, nr, nc):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_mulMatTVec", {
                 "nr": ("int", nr), "nc": ("int", nc)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -13348,7 +13348,7 @@ def _mju_mulMatTVec(res, mat, vec, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_mulMatTVec", {
             "nr": ("int", nr), "nc": ("int", nc)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -13385,7 +13385,7 @@ vec: array of shape (nr,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_mulMatTVec(res, mat, vec)
@@ -13401,7 +13401,7 @@ def _bind_mju_mulVecMatVec(c_vec1, c_mat, c_vec2, n):
             ret = guard(c_vec1, c_mat, c_vec2, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_mulVecMatVec", {"n": ("int", n)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -13424,7 +13424,7 @@ def _mju_mulVecMatVec(vec1, mat, vec2, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_mulVecMatVec(c_vec1, c_mat, c_vec2, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_mulVecMatVec", {"n": ("int", n)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -13461,7 +13461,7 @@ vec2: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_mulVecMatVec(vec1, mat, vec2)
@@ -13478,7 +13478,7 @@ def _bind_mju_transpose(c_res, c_mat, nr, nc):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_transpose", {
                 "nr": ("int", nr), "nc": ("int", nc)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -13501,7 +13501,7 @@ def _mju_transpose(res, mat, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_transpose", {
             "nr": ("int", nr), "nc": ("int", nc)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -13533,7 +13533,7 @@ mat: array of shape (nr, nc).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_transpose(res, mat)
@@ -13549,7 +13549,7 @@ def _bind_mju_symmetrize(c_res, c_mat, n):
             status = guard(c_res, c_mat, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_symmetrize", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -13570,7 +13570,7 @@ def _mju_symmetrize(res, mat, *, prepare=False):
         status = _lib.mjcffi_guard_mju_symmetrize(c_res, c_mat, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_symmetrize", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -13603,7 +13603,7 @@ mat: array of shape (n, n).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_symmetrize(res, mat)
@@ -13619,7 +13619,7 @@ def _bind_mju_eye(c_mat, n):
             status = guard(c_mat, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_eye", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -13639,7 +13639,7 @@ def _mju_eye(mat, *, prepare=False):
         status = _lib.mjcffi_guard_mju_eye(c_mat, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_eye", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -13667,7 +13667,7 @@ mat: output array of shape (n, n).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_eye(mat)
@@ -13684,7 +13684,7 @@ def _bind_mju_mulMatMat(c_res, c_mat1, c_mat2, r1, c1, c2):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_mulMatMat", {
                 "r1": ("int", r1), "c1": ("int", c1), "c2": ("int", c2)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -13710,7 +13710,7 @@ def _mju_mulMatMat(res, mat1, mat2, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_mulMatMat", {
             "r1": ("int", r1), "c1": ("int", c1), "c2": ("int", c2)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -13748,7 +13748,7 @@ mat2: array of shape (c1, c2).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_mulMatMat(res, mat1, mat2)
@@ -13765,7 +13765,7 @@ def _bind_mju_mulMatMatT(c_res, c_mat1, c_mat2, r1, c1, r2):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_mulMatMatT", {
                 "r1": ("int", r1), "c1": ("int", c1), "r2": ("int", r2)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -13792,7 +13792,7 @@ def _mju_mulMatMatT(res, mat1, mat2, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_mulMatMatT", {
             "r1": ("int", r1), "c1": ("int", c1), "r2": ("int", r2)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -13830,7 +13830,7 @@ mat2: array of shape (r2, c1).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_mulMatMatT(res, mat1, mat2)
@@ -13847,7 +13847,7 @@ def _bind_mju_mulMatTMat(c_res, c_mat1, c_mat2, r1, c1, c2):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_mulMatTMat", {
                 "r1": ("int", r1), "c1": ("int", c1), "c2": ("int", c2)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -13874,7 +13874,7 @@ def _mju_mulMatTMat(res, mat1, mat2, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_mulMatTMat", {
             "r1": ("int", r1), "c1": ("int", c1), "c2": ("int", c2)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -13912,7 +13912,7 @@ mat2: array of shape (r1, c2).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_mulMatTMat(res, mat1, mat2)
@@ -13929,7 +13929,7 @@ def _bind_mju_sqrMatTD(c_res, c_mat, c_diag, nr, nc):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_sqrMatTD", {
                 "nr": ("int", nr), "nc": ("int", nc)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -13952,7 +13952,7 @@ def _mju_sqrMatTD(res, mat, diag, *, prepare=False):
         status = _lib.mjcffi_guard_mju_sqrMatTD(c_res, c_mat, c_diag, nr, nc)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_sqrMatTD", {"nr": ("int", nr), "nc": ("int", nc)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -13989,7 +13989,7 @@ diag: array of shape (nr,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_sqrMatTD(res, mat, diag)
@@ -14006,7 +14006,7 @@ def _bind_mju_transformSpatial(c_res, c_vec, flg_force, c_newpos, c_oldpos, c_ro
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_transformSpatial", {
                 "flg_force": ("int", flg_force)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14030,7 +14030,7 @@ def _mju_transformSpatial(res, vec, flg_force, newpos, oldpos, rotnew2old=None, 
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_transformSpatial", {
             "flg_force": ("int", flg_force)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14076,7 +14076,7 @@ rotnew2old: array of shape (9,) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_transformSpatial(res, vec, flg_force, newpos, oldpos, rotnew2old)
@@ -14093,7 +14093,7 @@ def _bind_mju_dense2sparse(c_res, c_mat, nr, nc, c_rownnz, c_rowadr, c_colind, n
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_dense2sparse", {
                 "nr": ("int", nr), "nc": ("int", nc), "nnz": ("int", nnz)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -14125,7 +14125,7 @@ def _mju_dense2sparse(res, mat, rownnz, rowadr, colind, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_dense2sparse", {
             "nr": ("int", nr), "nc": ("int", nc), "nnz": ("int", nnz)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -14178,7 +14178,7 @@ colind: output array of shape (nnz,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_dense2sparse(res, mat, rownnz, rowadr, colind)
@@ -14195,7 +14195,7 @@ def _bind_mju_sparse2dense(c_res, c_mat, nr, nc, c_rownnz, c_rowadr, c_colind):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_sparse2dense", {
                 "nr": ("int", nr), "nc": ("int", nc)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14224,7 +14224,7 @@ def _mju_sparse2dense(res, mat, rownnz, rowadr, colind, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_sparse2dense", {
             "nr": ("int", nr), "nc": ("int", nc)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14251,7 +14251,7 @@ def _bind_mju_sym2dense(c_res, c_mat, n, c_rownnz, c_rowadr, c_colind):
             status = guard(c_res, c_mat, n, c_rownnz, c_rowadr, c_colind)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_sym2dense", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14276,7 +14276,7 @@ def _mju_sym2dense(res, mat, rownnz, rowadr, colind, *, prepare=False):
         status = _lib.mjcffi_guard_mju_sym2dense(c_res, c_mat, n, c_rownnz, c_rowadr, c_colind)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_sym2dense", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14300,7 +14300,7 @@ def _bind_mju_rotVecQuat(c_res, c_vec, c_quat):
 
     def call():
         status = guard(c_res, c_vec, c_quat)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14316,7 +14316,7 @@ def _mju_rotVecQuat(res, vec, quat, *, prepare=False):
     if prepare:
         return _bind_mju_rotVecQuat(c_res, c_vec, c_quat)
     status = _lib.mjcffi_guard_mju_rotVecQuat(c_res, c_vec, c_quat)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14349,7 +14349,7 @@ quat: array of shape (4,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_rotVecQuat(c_res, c_vec, c_quat)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_rotVecQuat(res, vec, quat)
@@ -14362,7 +14362,7 @@ def _bind_mju_negQuat(c_res, c_quat):
 
     def call():
         status = guard(c_res, c_quat)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14377,7 +14377,7 @@ def _mju_negQuat(res, quat, *, prepare=False):
     if prepare:
         return _bind_mju_negQuat(c_res, c_quat)
     status = _lib.mjcffi_guard_mju_negQuat(c_res, c_quat)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14405,7 +14405,7 @@ quat: array of shape (4,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_negQuat(c_res, c_quat)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_negQuat(res, quat)
@@ -14418,7 +14418,7 @@ def _bind_mju_mulQuat(c_res, c_quat1, c_quat2):
 
     def call():
         status = guard(c_res, c_quat1, c_quat2)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14434,7 +14434,7 @@ def _mju_mulQuat(res, quat1, quat2, *, prepare=False):
     if prepare:
         return _bind_mju_mulQuat(c_res, c_quat1, c_quat2)
     status = _lib.mjcffi_guard_mju_mulQuat(c_res, c_quat1, c_quat2)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14467,7 +14467,7 @@ quat2: array of shape (4,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_mulQuat(c_res, c_quat1, c_quat2)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_mulQuat(res, quat1, quat2)
@@ -14480,7 +14480,7 @@ def _bind_mju_mulQuatAxis(c_res, c_quat, c_axis):
 
     def call():
         status = guard(c_res, c_quat, c_axis)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14496,7 +14496,7 @@ def _mju_mulQuatAxis(res, quat, axis, *, prepare=False):
     if prepare:
         return _bind_mju_mulQuatAxis(c_res, c_quat, c_axis)
     status = _lib.mjcffi_guard_mju_mulQuatAxis(c_res, c_quat, c_axis)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14529,7 +14529,7 @@ axis: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_mulQuatAxis(c_res, c_quat, c_axis)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_mulQuatAxis(res, quat, axis)
@@ -14545,7 +14545,7 @@ def _bind_mju_axisAngle2Quat(c_res, c_axis, angle):
             status = guard(c_res, c_axis, angle)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_axisAngle2Quat", {"angle": ("mjtNum", angle)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14564,7 +14564,7 @@ def _mju_axisAngle2Quat(res, axis, angle, *, prepare=False):
         status = _lib.mjcffi_guard_mju_axisAngle2Quat(c_res, c_axis, angle)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_axisAngle2Quat", {"angle": ("mjtNum", angle)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14596,7 +14596,7 @@ axis: array of shape (3,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_axisAngle2Quat(res, axis, angle)
@@ -14612,7 +14612,7 @@ def _bind_mju_quat2Vel(c_res, c_quat, dt):
             status = guard(c_res, c_quat, dt)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_quat2Vel", {"dt": ("mjtNum", dt)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14631,7 +14631,7 @@ def _mju_quat2Vel(res, quat, dt, *, prepare=False):
         status = _lib.mjcffi_guard_mju_quat2Vel(c_res, c_quat, dt)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_quat2Vel", {"dt": ("mjtNum", dt)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14663,7 +14663,7 @@ quat: array of shape (4,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_quat2Vel(res, quat, dt)
@@ -14676,7 +14676,7 @@ def _bind_mju_subQuat(c_res, c_qa, c_qb):
 
     def call():
         status = guard(c_res, c_qa, c_qb)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14692,7 +14692,7 @@ def _mju_subQuat(res, qa, qb, *, prepare=False):
     if prepare:
         return _bind_mju_subQuat(c_res, c_qa, c_qb)
     status = _lib.mjcffi_guard_mju_subQuat(c_res, c_qa, c_qb)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14725,7 +14725,7 @@ qb: array of shape (4,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_subQuat(c_res, c_qa, c_qb)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_subQuat(res, qa, qb)
@@ -14738,7 +14738,7 @@ def _bind_mju_quat2Mat(c_res, c_quat):
 
     def call():
         status = guard(c_res, c_quat)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14753,7 +14753,7 @@ def _mju_quat2Mat(res, quat, *, prepare=False):
     if prepare:
         return _bind_mju_quat2Mat(c_res, c_quat)
     status = _lib.mjcffi_guard_mju_quat2Mat(c_res, c_quat)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14781,7 +14781,7 @@ quat: array of shape (4,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_quat2Mat(c_res, c_quat)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_quat2Mat(res, quat)
@@ -14794,7 +14794,7 @@ def _bind_mju_mat2Quat(c_quat, c_mat):
 
     def call():
         status = guard(c_quat, c_mat)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14809,7 +14809,7 @@ def _mju_mat2Quat(quat, mat, *, prepare=False):
     if prepare:
         return _bind_mju_mat2Quat(c_quat, c_mat)
     status = _lib.mjcffi_guard_mju_mat2Quat(c_quat, c_mat)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14837,7 +14837,7 @@ mat: array of shape (9,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_mat2Quat(c_quat, c_mat)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_mat2Quat(quat, mat)
@@ -14850,7 +14850,7 @@ def _bind_mju_derivQuat(c_res, c_quat, c_vel):
 
     def call():
         status = guard(c_res, c_quat, c_vel)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14866,7 +14866,7 @@ def _mju_derivQuat(res, quat, vel, *, prepare=False):
     if prepare:
         return _bind_mju_derivQuat(c_res, c_quat, c_vel)
     status = _lib.mjcffi_guard_mju_derivQuat(c_res, c_quat, c_vel)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14899,7 +14899,7 @@ vel: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_derivQuat(c_res, c_quat, c_vel)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_derivQuat(res, quat, vel)
@@ -14915,7 +14915,7 @@ def _bind_mju_quatIntegrate(c_quat, c_vel, scale):
             status = guard(c_quat, c_vel, scale)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_quatIntegrate", {"scale": ("mjtNum", scale)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14934,7 +14934,7 @@ def _mju_quatIntegrate(quat, vel, scale, *, prepare=False):
         status = _lib.mjcffi_guard_mju_quatIntegrate(c_quat, c_vel, scale)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_quatIntegrate", {"scale": ("mjtNum", scale)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -14966,7 +14966,7 @@ vel: array of shape (3,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_quatIntegrate(quat, vel, scale)
@@ -14979,7 +14979,7 @@ def _bind_mju_quatZ2Vec(c_quat, c_vec):
 
     def call():
         status = guard(c_quat, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -14994,7 +14994,7 @@ def _mju_quatZ2Vec(quat, vec, *, prepare=False):
     if prepare:
         return _bind_mju_quatZ2Vec(c_quat, c_vec)
     status = _lib.mjcffi_guard_mju_quatZ2Vec(c_quat, c_vec)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -15022,7 +15022,7 @@ vec: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_quatZ2Vec(c_quat, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_quatZ2Vec(quat, vec)
@@ -15035,7 +15035,7 @@ def _bind_mju_mat2Rot(c_quat, c_mat):
 
     def call():
         ret = guard(c_quat, c_mat)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -15051,7 +15051,7 @@ def _mju_mat2Rot(quat, mat, *, prepare=False):
     if prepare:
         return _bind_mju_mat2Rot(c_quat, c_mat)
     ret = _lib.mjcffi_guard_mju_mat2Rot(c_quat, c_mat)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -15081,7 +15081,7 @@ mat: array of shape (9,).
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mju_mat2Rot(c_quat, c_mat)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_mat2Rot(quat, mat)
@@ -15094,7 +15094,7 @@ def _bind_mju_euler2Quat(c_quat, c_euler, c_seq):
 
     def call():
         status = guard(c_quat, c_euler, c_seq)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -15110,7 +15110,7 @@ def _mju_euler2Quat(quat, euler, seq, *, prepare=False):
     if prepare:
         return _bind_mju_euler2Quat(c_quat, c_euler, c_seq)
     status = _lib.mjcffi_guard_mju_euler2Quat(c_quat, c_euler, c_seq)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -15141,7 +15141,7 @@ euler: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_euler2Quat(c_quat, c_euler, c_seq)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_euler2Quat(quat, euler, seq)
@@ -15154,7 +15154,7 @@ def _bind_mju_mulPose(c_posres, c_quatres, c_pos1, c_quat1, c_pos2, c_quat2):
 
     def call():
         status = guard(c_posres, c_quatres, c_pos1, c_quat1, c_pos2, c_quat2)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -15173,7 +15173,7 @@ def _mju_mulPose(posres, quatres, pos1, quat1, pos2, quat2, *, prepare=False):
     if prepare:
         return _bind_mju_mulPose(c_posres, c_quatres, c_pos1, c_quat1, c_pos2, c_quat2)
     status = _lib.mjcffi_guard_mju_mulPose(c_posres, c_quatres, c_pos1, c_quat1, c_pos2, c_quat2)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -15222,7 +15222,7 @@ quat2: array of shape (4,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_mulPose(c_posres, c_quatres, c_pos1, c_quat1, c_pos2, c_quat2)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_mulPose(posres, quatres, pos1, quat1, pos2, quat2)
@@ -15235,7 +15235,7 @@ def _bind_mju_negPose(c_posres, c_quatres, c_pos, c_quat):
 
     def call():
         status = guard(c_posres, c_quatres, c_pos, c_quat)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -15252,7 +15252,7 @@ def _mju_negPose(posres, quatres, pos, quat, *, prepare=False):
     if prepare:
         return _bind_mju_negPose(c_posres, c_quatres, c_pos, c_quat)
     status = _lib.mjcffi_guard_mju_negPose(c_posres, c_quatres, c_pos, c_quat)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -15291,7 +15291,7 @@ quat: array of shape (4,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_negPose(c_posres, c_quatres, c_pos, c_quat)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_negPose(posres, quatres, pos, quat)
@@ -15304,7 +15304,7 @@ def _bind_mju_trnVecPose(c_res, c_pos, c_quat, c_vec):
 
     def call():
         status = guard(c_res, c_pos, c_quat, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -15321,7 +15321,7 @@ def _mju_trnVecPose(res, pos, quat, vec, *, prepare=False):
     if prepare:
         return _bind_mju_trnVecPose(c_res, c_pos, c_quat, c_vec)
     status = _lib.mjcffi_guard_mju_trnVecPose(c_res, c_pos, c_quat, c_vec)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -15359,7 +15359,7 @@ vec: array of shape (3,).
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mju_trnVecPose(c_res, c_pos, c_quat, c_vec)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mju_trnVecPose(res, pos, quat, vec)
@@ -15376,7 +15376,7 @@ def _bind_mju_cholFactor(c_mat, n, mindiag):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_cholFactor", {
                 "n": ("int", n), "mindiag": ("mjtNum", mindiag)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -15398,7 +15398,7 @@ def _mju_cholFactor(mat, mindiag, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_cholFactor", {
             "n": ("int", n), "mindiag": ("mjtNum", mindiag)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -15427,7 +15427,7 @@ mat: output array of shape (n, n).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_cholFactor(mat, mindiag)
@@ -15443,7 +15443,7 @@ def _bind_mju_cholSolve(c_res, c_mat, c_vec, n):
             status = guard(c_res, c_mat, c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_cholSolve", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -15465,7 +15465,7 @@ def _mju_cholSolve(res, mat, vec, *, prepare=False):
         status = _lib.mjcffi_guard_mju_cholSolve(c_res, c_mat, c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_cholSolve", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -15503,7 +15503,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_cholSolve(res, mat, vec)
@@ -15520,7 +15520,7 @@ def _bind_mju_cholUpdate(c_mat, c_x, n, flg_plus):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_cholUpdate", {
                 "n": ("int", n), "flg_plus": ("int", flg_plus)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -15543,7 +15543,7 @@ def _mju_cholUpdate(mat, x, flg_plus, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_cholUpdate", {
             "n": ("int", n), "flg_plus": ("int", flg_plus)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -15578,7 +15578,7 @@ x: output array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_cholUpdate(mat, x, flg_plus)
@@ -15596,7 +15596,7 @@ def _bind_mju_cholFactorBand(c_mat, ntotal, nband, ndense, diagadd, diagmul):
             raise _m.scalar_error(exc, "mju_cholFactorBand", {
                 "ntotal": ("int", ntotal), "nband": ("int", nband), "ndense": ("int", ndense),
                 "diagadd": ("mjtNum", diagadd), "diagmul": ("mjtNum", diagmul)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -15619,7 +15619,7 @@ def _mju_cholFactorBand(mat, ntotal, nband, ndense, diagadd, diagmul, *, prepare
         raise _m.scalar_error(exc, "mju_cholFactorBand", {
             "ntotal": ("int", ntotal), "nband": ("int", nband), "ndense": ("int", ndense),
             "diagadd": ("mjtNum", diagadd), "diagmul": ("mjtNum", diagmul)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -15653,7 +15653,7 @@ mat: output array of shape (band_size(ntotal, nband, ndense),).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_cholFactorBand(mat, ntotal, nband, ndense, diagadd, diagmul)
@@ -15670,7 +15670,7 @@ def _bind_mju_cholSolveBand(c_res, c_mat, c_vec, ntotal, nband, ndense):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_cholSolveBand", {
                 "ntotal": ("int", ntotal), "nband": ("int", nband), "ndense": ("int", ndense)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -15693,7 +15693,7 @@ def _mju_cholSolveBand(res, mat, vec, ntotal, nband, ndense, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_cholSolveBand", {
             "ntotal": ("int", ntotal), "nband": ("int", nband), "ndense": ("int", ndense)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -15722,7 +15722,7 @@ def _bind_mju_band2Dense(c_res, c_mat, ntotal, nband, ndense, flg_sym):
             raise _m.scalar_error(exc, "mju_band2Dense", {
                 "ntotal": ("int", ntotal), "nband": ("int", nband), "ndense": ("int", ndense),
                 "flg_sym": ("mjtBool", flg_sym)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -15746,7 +15746,7 @@ def _mju_band2Dense(res, mat, ntotal, nband, ndense, flg_sym, *, prepare=False):
         raise _m.scalar_error(exc, "mju_band2Dense", {
             "ntotal": ("int", ntotal), "nband": ("int", nband), "ndense": ("int", ndense),
             "flg_sym": ("mjtBool", flg_sym)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -15773,7 +15773,7 @@ def _bind_mju_dense2Band(c_res, c_mat, ntotal, nband, ndense):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_dense2Band", {
                 "ntotal": ("int", ntotal), "nband": ("int", nband), "ndense": ("int", ndense)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -15795,7 +15795,7 @@ def _mju_dense2Band(res, mat, ntotal, nband, ndense, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_dense2Band", {
             "ntotal": ("int", ntotal), "nband": ("int", nband), "ndense": ("int", ndense)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -15823,7 +15823,7 @@ def _bind_mju_bandMulMatVec(c_res, c_mat, c_vec, ntotal, nband, ndense, nvec, fl
             raise _m.scalar_error(exc, "mju_bandMulMatVec", {
                 "ntotal": ("int", ntotal), "nband": ("int", nband), "ndense": ("int", ndense),
                 "nvec": ("int", nvec), "flg_sym": ("mjtBool", flg_sym)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -15852,7 +15852,7 @@ def _mju_bandMulMatVec(res, mat, vec, ntotal, nband, ndense, nvec, flg_sym, *, p
         raise _m.scalar_error(exc, "mju_bandMulMatVec", {
             "ntotal": ("int", ntotal), "nband": ("int", nband), "ndense": ("int", ndense),
             "nvec": ("int", nvec), "flg_sym": ("mjtBool", flg_sym)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -15881,7 +15881,7 @@ def _bind_mju_bandDiag(i, ntotal, nband, ndense):
             raise _m.scalar_error(exc, "mju_bandDiag", {
                 "i": ("int", i), "ntotal": ("int", ntotal), "nband": ("int", nband),
                 "ndense": ("int", ndense)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -15903,7 +15903,7 @@ def _mju_bandDiag(i, ntotal, nband, ndense, *, prepare=False):
         raise _m.scalar_error(exc, "mju_bandDiag", {
             "i": ("int", i), "ntotal": ("int", ntotal), "nband": ("int", nband),
             "ndense": ("int", ndense)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -15919,7 +15919,7 @@ Address of diagonal element i in band-dense matrix representation.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_bandDiag(i, ntotal, nband, ndense)
@@ -15932,7 +15932,7 @@ def _bind_mju_eig3(c_eigval, c_eigvec, c_quat, c_mat):
 
     def call():
         ret = guard(c_eigval, c_eigvec, c_quat, c_mat)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -15950,7 +15950,7 @@ def _mju_eig3(eigval, eigvec, quat, mat, *, prepare=False):
     if prepare:
         return _bind_mju_eig3(c_eigval, c_eigvec, c_quat, c_mat)
     ret = _lib.mjcffi_guard_mju_eig3(c_eigval, c_eigvec, c_quat, c_mat)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -15991,7 +15991,7 @@ mat: array of shape (9,).
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mju_eig3(c_eigval, c_eigvec, c_quat, c_mat)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_eig3(eigval, eigvec, quat, mat)
@@ -16007,7 +16007,7 @@ def _bind_mju_boxQP(c_res, c_R, c_index, c_H, c_g, n, c_lower, c_upper):
             ret = guard(c_res, c_R, c_index, c_H, c_g, n, c_lower, c_upper)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_boxQP", {"n": ("int", n)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16035,7 +16035,7 @@ def _mju_boxQP(res, R, index, H, g, lower=None, upper=None, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_boxQP(c_res, c_R, c_index, c_H, c_g, n, c_lower, c_upper)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_boxQP", {"n": ("int", n)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16108,7 +16108,7 @@ upper: array of shape (n,) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_boxQP(res, R, index, H, g, lower, upper)
@@ -16140,7 +16140,7 @@ def _bind_mju_muscleGain(len, vel, c_lengthrange, acc0, c_prm):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_muscleGain", {
                 "len": ("mjtNum", len), "vel": ("mjtNum", vel), "acc0": ("mjtNum", acc0)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16162,7 +16162,7 @@ def _mju_muscleGain(len, vel, lengthrange, acc0, prm, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_muscleGain", {
             "len": ("mjtNum", len), "vel": ("mjtNum", vel), "acc0": ("mjtNum", acc0)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16194,7 +16194,7 @@ prm: array of shape (9,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_muscleGain(len, vel, lengthrange, acc0, prm)
@@ -16211,7 +16211,7 @@ def _bind_mju_muscleBias(len, c_lengthrange, acc0, c_prm):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_muscleBias", {
                 "len": ("mjtNum", len), "acc0": ("mjtNum", acc0)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16232,7 +16232,7 @@ def _mju_muscleBias(len, lengthrange, acc0, prm, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_muscleBias", {
             "len": ("mjtNum", len), "acc0": ("mjtNum", acc0)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16264,7 +16264,7 @@ prm: array of shape (9,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_muscleBias(len, lengthrange, acc0, prm)
@@ -16281,7 +16281,7 @@ def _bind_mju_muscleDynamics(ctrl, act, c_prm):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_muscleDynamics", {
                 "ctrl": ("mjtNum", ctrl), "act": ("mjtNum", act)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16301,7 +16301,7 @@ def _mju_muscleDynamics(ctrl, act, prm, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_muscleDynamics", {
             "ctrl": ("mjtNum", ctrl), "act": ("mjtNum", act)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16328,7 +16328,7 @@ prm: array of shape (3,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_muscleDynamics(ctrl, act, prm)
@@ -16344,7 +16344,7 @@ def _bind_mju_encodePyramid(c_pyramid, c_force, c_mu, dim):
             status = guard(c_pyramid, c_force, c_mu, dim)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_encodePyramid", {"dim": ("int", dim)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -16366,7 +16366,7 @@ def _mju_encodePyramid(pyramid, force, mu, *, prepare=False):
         status = _lib.mjcffi_guard_mju_encodePyramid(c_pyramid, c_force, c_mu, dim)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_encodePyramid", {"dim": ("int", dim)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -16393,7 +16393,7 @@ def _bind_mju_decodePyramid(c_force, c_pyramid, c_mu, dim):
             status = guard(c_force, c_pyramid, c_mu, dim)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_decodePyramid", {"dim": ("int", dim)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -16415,7 +16415,7 @@ def _mju_decodePyramid(force, pyramid, mu, *, prepare=False):
         status = _lib.mjcffi_guard_mju_decodePyramid(c_force, c_pyramid, c_mu, dim)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_decodePyramid", {"dim": ("int", dim)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -16444,7 +16444,7 @@ def _bind_mju_springDamper(pos0, vel0, Kp, Kv, dt):
             raise _m.scalar_error(exc, "mju_springDamper", {
                 "pos0": ("mjtNum", pos0), "vel0": ("mjtNum", vel0), "Kp": ("mjtNum", Kp),
                 "Kv": ("mjtNum", Kv), "dt": ("mjtNum", dt)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16466,7 +16466,7 @@ def _mju_springDamper(pos0, vel0, Kp, Kv, dt, *, prepare=False):
         raise _m.scalar_error(exc, "mju_springDamper", {
             "pos0": ("mjtNum", pos0), "vel0": ("mjtNum", vel0), "Kp": ("mjtNum", Kp),
             "Kv": ("mjtNum", Kv), "dt": ("mjtNum", dt)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16482,7 +16482,7 @@ Integrate spring-damper analytically; return pos(dt).
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_springDamper(pos0, vel0, Kp, Kv, dt)
@@ -16499,7 +16499,7 @@ def _bind_mju_min(a, b):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_min", {
                 "a": ("mjtNum", a), "b": ("mjtNum", b)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16517,7 +16517,7 @@ def _mju_min(a, b, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_min(a, b)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_min", {"a": ("mjtNum", a), "b": ("mjtNum", b)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16533,7 +16533,7 @@ Return min(a,b) with single evaluation of a and b.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_min(a, b)
@@ -16550,7 +16550,7 @@ def _bind_mju_max(a, b):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_max", {
                 "a": ("mjtNum", a), "b": ("mjtNum", b)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16568,7 +16568,7 @@ def _mju_max(a, b, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_max(a, b)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_max", {"a": ("mjtNum", a), "b": ("mjtNum", b)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16584,7 +16584,7 @@ Return max(a,b) with single evaluation of a and b.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_max(a, b)
@@ -16601,7 +16601,7 @@ def _bind_mju_clip(x, min, max):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_clip", {
                 "x": ("mjtNum", x), "min": ("mjtNum", min), "max": ("mjtNum", max)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16621,7 +16621,7 @@ def _mju_clip(x, min, max, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_clip", {
             "x": ("mjtNum", x), "min": ("mjtNum", min), "max": ("mjtNum", max)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16637,7 +16637,7 @@ Clip x to the range [min, max].
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_clip(x, min, max)
@@ -16653,7 +16653,7 @@ def _bind_mju_sign(x):
             ret = guard(x)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_sign", {"x": ("mjtNum", x)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16671,7 +16671,7 @@ def _mju_sign(x, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_sign(x)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_sign", {"x": ("mjtNum", x)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16687,7 +16687,7 @@ Return sign of x: +1, -1 or 0.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_sign(x)
@@ -16703,7 +16703,7 @@ def _bind_mju_round(x):
             ret = guard(x)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_round", {"x": ("mjtNum", x)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16721,7 +16721,7 @@ def _mju_round(x, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_round(x)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_round", {"x": ("mjtNum", x)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16737,7 +16737,7 @@ Round x to nearest integer.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_round(x)
@@ -16753,7 +16753,7 @@ def _bind_mju_type2Str(type):
             ret = guard(type)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_type2Str", {"type": ("int", type)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -16771,7 +16771,7 @@ def _mju_type2Str(type, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_type2Str(type)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_type2Str", {"type": ("int", type)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -16787,7 +16787,7 @@ Convert type id (mjtObj) to type name.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return _mju_type2Str(type)
@@ -16800,7 +16800,7 @@ def _bind_mju_str2Type(c_str):
 
     def call():
         ret = guard(c_str)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16815,7 +16815,7 @@ def _mju_str2Type(str, *, prepare=False):
     if prepare:
         return _bind_mju_str2Type(c_str)
     ret = _lib.mjcffi_guard_mju_str2Type(c_str)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16834,7 +16834,7 @@ Convert type name to type id (mjtObj).
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mju_str2Type(c_str)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_str2Type(str)
@@ -16851,7 +16851,7 @@ def _bind_mju_writeNumBytes(nbytes):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_writeNumBytes", {
                 "nbytes": ("size_t", nbytes)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -16869,7 +16869,7 @@ def _mju_writeNumBytes(nbytes, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_writeNumBytes(nbytes)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_writeNumBytes", {"nbytes": ("size_t", nbytes)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -16885,7 +16885,7 @@ Return human readable number of bytes using standard letter suffix.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return _mju_writeNumBytes(nbytes)
@@ -16902,7 +16902,7 @@ def _bind_mju_warningText(warning, info):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_warningText", {
                 "warning": ("int", warning), "info": ("size_t", info)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -16921,7 +16921,7 @@ def _mju_warningText(warning, info, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_warningText", {
             "warning": ("int", warning), "info": ("size_t", info)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -16937,7 +16937,7 @@ Construct a warning message given the warning type and info.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return _mju_warningText(warning, info)
@@ -16953,7 +16953,7 @@ def _bind_mju_isBad(x):
             ret = guard(x)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_isBad", {"x": ("mjtNum", x)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -16971,7 +16971,7 @@ def _mju_isBad(x, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_isBad(x)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_isBad", {"x": ("mjtNum", x)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -16987,7 +16987,7 @@ Return 1 if nan or abs(x)>mjMAXVAL, 0 otherwise. Used by check functions.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_isBad(x)
@@ -17003,7 +17003,7 @@ def _bind_mju_isZero(c_vec, n):
             ret = guard(c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_isZero", {"n": ("int", n)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -17024,7 +17024,7 @@ def _mju_isZero(vec, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_isZero(c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_isZero", {"n": ("int", n)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -17051,7 +17051,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if not ret or _cb._pending:
+            if not ret or _contract.pending:
                 _m.check_error()
             return ret
     return _mju_isZero(vec)
@@ -17064,7 +17064,7 @@ def _bind_mju_standardNormal(c_num2):
 
     def call():
         ret = guard(c_num2)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -17079,7 +17079,7 @@ def _mju_standardNormal(num2=None, *, prepare=False):
     if prepare:
         return _bind_mju_standardNormal(c_num2)
     ret = _lib.mjcffi_guard_mju_standardNormal(c_num2)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -17100,7 +17100,7 @@ num2: output array of shape (1,) or None.
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mju_standardNormal(c_num2)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_standardNormal(num2)
@@ -17116,7 +17116,7 @@ def _bind_mju_f2n(c_res, c_vec, n):
             status = guard(c_res, c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_f2n", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -17137,7 +17137,7 @@ def _mju_f2n(res, vec, *, prepare=False):
         status = _lib.mjcffi_guard_mju_f2n(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_f2n", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -17169,7 +17169,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_f2n(res, vec)
@@ -17185,7 +17185,7 @@ def _bind_mju_n2f(c_res, c_vec, n):
             status = guard(c_res, c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_n2f", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -17206,7 +17206,7 @@ def _mju_n2f(res, vec, *, prepare=False):
         status = _lib.mjcffi_guard_mju_n2f(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_n2f", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -17238,7 +17238,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_n2f(res, vec)
@@ -17254,7 +17254,7 @@ def _bind_mju_d2n(c_res, c_vec, n):
             status = guard(c_res, c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_d2n", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -17275,7 +17275,7 @@ def _mju_d2n(res, vec, *, prepare=False):
         status = _lib.mjcffi_guard_mju_d2n(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_d2n", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -17307,7 +17307,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_d2n(res, vec)
@@ -17323,7 +17323,7 @@ def _bind_mju_n2d(c_res, c_vec, n):
             status = guard(c_res, c_vec, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_n2d", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -17344,7 +17344,7 @@ def _mju_n2d(res, vec, *, prepare=False):
         status = _lib.mjcffi_guard_mju_n2d(c_res, c_vec, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_n2d", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -17376,7 +17376,7 @@ vec: array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_n2d(res, vec)
@@ -17392,7 +17392,7 @@ def _bind_mju_insertionSort(c_list, n):
             status = guard(c_list, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_insertionSort", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -17412,7 +17412,7 @@ def _mju_insertionSort(list, *, prepare=False):
         status = _lib.mjcffi_guard_mju_insertionSort(c_list, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_insertionSort", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -17439,7 +17439,7 @@ list: output array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_insertionSort(list)
@@ -17455,7 +17455,7 @@ def _bind_mju_insertionSortInt(c_list, n):
             status = guard(c_list, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_insertionSortInt", {"n": ("int", n)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -17475,7 +17475,7 @@ def _mju_insertionSortInt(list, *, prepare=False):
         status = _lib.mjcffi_guard_mju_insertionSortInt(c_list, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_insertionSortInt", {"n": ("int", n)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -17502,7 +17502,7 @@ list: output array of shape (n,).
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mju_insertionSortInt(list)
@@ -17519,7 +17519,7 @@ def _bind_mju_Halton(index, base):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_Halton", {
                 "index": ("int", index), "base": ("int", base)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -17539,7 +17539,7 @@ def _mju_Halton(index, base, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_Halton", {
             "index": ("int", index), "base": ("int", base)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -17563,7 +17563,7 @@ def _bind_mju_strncpy(c_dst, c_src, n):
             ret = guard(c_dst, c_src, n)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_strncpy", {"n": ("int", n)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -17585,7 +17585,7 @@ def _mju_strncpy(dst, src, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_strncpy(c_dst, c_src, n)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_strncpy", {"n": ("int", n)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -17609,7 +17609,7 @@ def _bind_mju_sigmoid(x):
             ret = guard(x)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_sigmoid", {"x": ("mjtNum", x)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -17627,7 +17627,7 @@ def _mju_sigmoid(x, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_sigmoid(x)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_sigmoid", {"x": ("mjtNum", x)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -17643,7 +17643,7 @@ Sigmoid function over 0<=x<=1 using quintic polynomial.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return _mju_sigmoid(x)
@@ -17659,7 +17659,7 @@ def _bind_mjc_getSDF(m, c_m, id):
             ret = guard(c_m, id)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjc_getSDF", {"id": ("int", id)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpPlugin, ret, m)
     return call
@@ -17681,7 +17681,7 @@ def _mjc_getSDF(m, id, *, prepare=False):
         ret = _lib.mjcffi_guard_mjc_getSDF(c_m, id)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjc_getSDF", {"id": ("int", id)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjpPlugin, ret, m)
 
@@ -17734,7 +17734,7 @@ def _bind_mjd_transitionFD(c_m, c_d, eps, flg_centered, c_A, c_B, c_C, c_D):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjd_transitionFD", {
                 "eps": ("mjtNum", eps), "flg_centered": ("mjtBool", flg_centered)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -17758,7 +17758,7 @@ def _mjd_transitionFD(m, d, eps, flg_centered, A=None, B=None, C=None, D=None, *
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjd_transitionFD", {
             "eps": ("mjtNum", eps), "flg_centered": ("mjtBool", flg_centered)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -17797,7 +17797,7 @@ def _bind_mjd_inverseFD(
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjd_inverseFD", {
                 "eps": ("mjtNum", eps), "flg_actuation": ("mjtBool", flg_actuation)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -17826,7 +17826,7 @@ def _mjd_inverseFD(m, d, eps, flg_actuation, DfDq=None, DfDv=None, DfDa=None, Ds
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjd_inverseFD", {
             "eps": ("mjtNum", eps), "flg_actuation": ("mjtBool", flg_actuation)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -17887,7 +17887,7 @@ DmDq: output array of shape (nv, nC) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mjd_inverseFD(m, d, eps, flg_actuation, DfDq, DfDv, DfDa, DsDq, DsDv, DsDa, DmDq)
@@ -17900,7 +17900,7 @@ def _bind_mjd_subQuat(c_qa, c_qb, c_Da, c_Db):
 
     def call():
         status = guard(c_qa, c_qb, c_Da, c_Db)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -17919,7 +17919,7 @@ def _mjd_subQuat(qa, qb, Da=None, Db=None, *, prepare=False):
     if prepare:
         return _bind_mjd_subQuat(c_qa, c_qb, c_Da, c_Db)
     status = _lib.mjcffi_guard_mjd_subQuat(c_qa, c_qb, c_Da, c_Db)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -17952,7 +17952,7 @@ Db: output array of the size of (9,) or None.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mjd_subQuat(c_qa, c_qb, c_Da, c_Db)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
         return
     return _mjd_subQuat(qa, qb, Da, Db)
@@ -17968,7 +17968,7 @@ def _bind_mjd_quatIntegrate(c_vel, scale, c_Dquat, c_Dvel, c_Dscale):
             status = guard(c_vel, scale, c_Dquat, c_Dvel, c_Dscale)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjd_quatIntegrate", {"scale": ("mjtNum", scale)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -17989,7 +17989,7 @@ def _mjd_quatIntegrate(vel, scale, Dquat=None, Dvel=None, Dscale=None, *, prepar
         status = _lib.mjcffi_guard_mjd_quatIntegrate(c_vel, scale, c_Dquat, c_Dvel, c_Dscale)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjd_quatIntegrate", {"scale": ("mjtNum", scale)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -18024,7 +18024,7 @@ Dscale: output array of shape (3,) or None.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
-            if status or _cb._pending:
+            if status or _contract.pending:
                 _m.check(status)
             return
     return _mjd_quatIntegrate(vel, scale, Dquat, Dvel, Dscale)
@@ -18037,7 +18037,7 @@ def _bind_mjp_defaultPlugin(c_plugin):
 
     def call():
         status = guard(c_plugin)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -18051,7 +18051,7 @@ def _mjp_defaultPlugin(plugin, *, prepare=False):
     if prepare:
         return _bind_mjp_defaultPlugin(c_plugin)
     status = _lib.mjcffi_guard_mjp_defaultPlugin(c_plugin)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -18089,7 +18089,7 @@ def _bind_mjp_pluginCount():
 
     def call():
         ret = guard()
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -18103,7 +18103,7 @@ def _mjp_pluginCount(*, prepare=False):
     if prepare:
         return _bind_mjp_pluginCount()
     ret = _lib.mjcffi_guard_mjp_pluginCount()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -18115,7 +18115,7 @@ def mjp_pluginCount():
 Return the number of globally registered plugins.
 """
     ret = _lib.mjcffi_guard_mjp_pluginCount()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
     return _mjp_pluginCount()
@@ -18128,7 +18128,7 @@ def _bind_mjp_getPlugin(c_name, c_slot):
 
     def call():
         ret = guard(c_name, c_slot)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpPlugin, ret, None)
     return call
@@ -18144,7 +18144,7 @@ def _mjp_getPlugin(name, slot, *, prepare=False):
     if prepare:
         return _bind_mjp_getPlugin(c_name, c_slot)
     ret = _lib.mjcffi_guard_mjp_getPlugin(c_name, c_slot)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjpPlugin, ret, None)
 
@@ -18170,7 +18170,7 @@ slot: output array of shape (1,).
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mjp_getPlugin(c_name, c_slot)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpPlugin, ret, None)
     return _mjp_getPlugin(name, slot)
@@ -18186,7 +18186,7 @@ def _bind_mjp_getPluginAtSlot(slot):
             ret = guard(slot)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjp_getPluginAtSlot", {"slot": ("int", slot)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpPlugin, ret, None)
     return call
@@ -18204,7 +18204,7 @@ def _mjp_getPluginAtSlot(slot, *, prepare=False):
         ret = _lib.mjcffi_guard_mjp_getPluginAtSlot(slot)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjp_getPluginAtSlot", {"slot": ("int", slot)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjpPlugin, ret, None)
 
@@ -18220,7 +18220,7 @@ Look up a plugin by the registered slot number that was returned by mjp_register
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpPlugin, ret, None)
     return _mjp_getPluginAtSlot(slot)
@@ -18233,7 +18233,7 @@ def _bind_mjp_defaultProvider(c_provider):
 
     def call():
         status = guard(c_provider)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -18247,7 +18247,7 @@ def _mjp_defaultProvider(provider, *, prepare=False):
     if prepare:
         return _bind_mjp_defaultProvider(c_provider)
     status = _lib.mjcffi_guard_mjp_defaultProvider(c_provider)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -18282,7 +18282,7 @@ def _bind_mjp_providerCount():
 
     def call():
         ret = guard()
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -18296,7 +18296,7 @@ def _mjp_providerCount(*, prepare=False):
     if prepare:
         return _bind_mjp_providerCount()
     ret = _lib.mjcffi_guard_mjp_providerCount()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -18308,7 +18308,7 @@ def mjp_providerCount():
 Return the number of globally registered providers.
 """
     ret = _lib.mjcffi_guard_mjp_providerCount()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
     return _mjp_providerCount()
@@ -18321,7 +18321,7 @@ def _bind_mjp_findProvider(c_resource_name):
 
     def call():
         ret = guard(c_resource_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpResourceProvider, ret, None)
     return call
@@ -18336,7 +18336,7 @@ def _mjp_findProvider(resource_name, *, prepare=False):
     if prepare:
         return _bind_mjp_findProvider(c_resource_name)
     ret = _lib.mjcffi_guard_mjp_findProvider(c_resource_name)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjpResourceProvider, ret, None)
 
@@ -18356,7 +18356,7 @@ If no match, return NULL.
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mjp_findProvider(c_resource_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpResourceProvider, ret, None)
     return _mjp_findProvider(resource_name)
@@ -18372,7 +18372,7 @@ def _bind_mjp_getProviderAtSlot(slot):
             ret = guard(slot)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjp_getProviderAtSlot", {"slot": ("int", slot)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpResourceProvider, ret, None)
     return call
@@ -18390,7 +18390,7 @@ def _mjp_getProviderAtSlot(slot, *, prepare=False):
         ret = _lib.mjcffi_guard_mjp_getProviderAtSlot(slot)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjp_getProviderAtSlot", {"slot": ("int", slot)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjpResourceProvider, ret, None)
 
@@ -18407,7 +18407,7 @@ If invalid slot number, return NULL.
     except (TypeError, OverflowError):
         pass                # a scalar C cannot take: the slow path names it
     else:
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpResourceProvider, ret, None)
     return _mjp_getProviderAtSlot(slot)
@@ -18435,7 +18435,7 @@ def _bind_mjp_defaultDecoder(c_decoder):
 
     def call():
         status = guard(c_decoder)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -18449,7 +18449,7 @@ def _mjp_defaultDecoder(decoder, *, prepare=False):
     if prepare:
         return _bind_mjp_defaultDecoder(c_decoder)
     status = _lib.mjcffi_guard_mjp_defaultDecoder(c_decoder)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -18499,7 +18499,7 @@ def _bind_mjp_defaultEncoder(c_encoder):
 
     def call():
         status = guard(c_encoder)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -18513,7 +18513,7 @@ def _mjp_defaultEncoder(encoder, *, prepare=False):
     if prepare:
         return _bind_mjp_defaultEncoder(c_encoder)
     status = _lib.mjcffi_guard_mjp_defaultEncoder(c_encoder)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -18533,7 +18533,7 @@ def _bind_mjp_findEncoder(c_filename, c_content_type):
 
     def call():
         ret = guard(c_filename, c_content_type)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpEncoder, ret, None)
     return call
@@ -18549,7 +18549,7 @@ def _mjp_findEncoder(filename, content_type, *, prepare=False):
     if prepare:
         return _bind_mjp_findEncoder(c_filename, c_content_type)
     ret = _lib.mjcffi_guard_mjp_findEncoder(c_filename, c_content_type)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjpEncoder, ret, None)
 
@@ -18571,7 +18571,7 @@ If no match, return NULL.
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mjp_findEncoder(c_filename, c_content_type)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpEncoder, ret, None)
     return _mjp_findEncoder(filename, content_type)
@@ -18598,7 +18598,7 @@ def _bind_mjp_findArchiveProvider(c_resource_name):
 
     def call():
         ret = guard(c_resource_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpResourceProvider, ret, None)
     return call
@@ -18613,7 +18613,7 @@ def _mjp_findArchiveProvider(resource_name, *, prepare=False):
     if prepare:
         return _bind_mjp_findArchiveProvider(c_resource_name)
     ret = _lib.mjcffi_guard_mjp_findArchiveProvider(c_resource_name)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjpResourceProvider, ret, None)
 
@@ -18633,7 +18633,7 @@ If no match, return NULL.
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mjp_findArchiveProvider(c_resource_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjpResourceProvider, ret, None)
     return _mjp_findArchiveProvider(resource_name)
@@ -18646,7 +18646,7 @@ def _bind_mjp_archiveProviderCount():
 
     def call():
         ret = guard()
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -18660,7 +18660,7 @@ def _mjp_archiveProviderCount(*, prepare=False):
     if prepare:
         return _bind_mjp_archiveProviderCount()
     ret = _lib.mjcffi_guard_mjp_archiveProviderCount()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -18672,7 +18672,7 @@ def mjp_archiveProviderCount():
 Return the number of globally registered archive providers.
 """
     ret = _lib.mjcffi_guard_mjp_archiveProviderCount()
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
     return _mjp_archiveProviderCount()
@@ -18734,7 +18734,7 @@ def _bind_mju_writeResource(c_name, c_buffer, nbytes, c_vfs):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_writeResource", {
                 "nbytes": ("mjtSize", nbytes)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         if ret < 0:
             raise ValueError(_m.error_text(error, "mju_writeResource"))
@@ -18759,7 +18759,7 @@ def _mju_writeResource(name, buffer, vfs=None, *, prepare=False):
         ret = _lib.mjcffi_guard_mju_writeResource(c_name, c_buffer, nbytes, c_vfs, error, error_sz)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_writeResource", {"nbytes": ("mjtSize", nbytes)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     if ret < 0:
         raise ValueError(_m.error_text(error, "mju_writeResource"))
@@ -18830,7 +18830,7 @@ def _bind_mju_threadpool(c_d, nthread):
             status = guard(c_d, nthread)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mju_threadpool", {"nthread": ("int", nthread)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -18850,7 +18850,7 @@ def _mju_threadpool(d, nthread, *, prepare=False):
         status = _lib.mjcffi_guard_mju_threadpool(c_d, nthread)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mju_threadpool", {"nthread": ("int", nthread)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -18872,7 +18872,7 @@ def _bind_mjs_attach(parent, c_parent, c_child, c_prefix, c_suffix):
 
     def call():
         ret = guard(c_parent, c_child, c_prefix, c_suffix)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsElement, ret, parent)
     return call
@@ -18890,7 +18890,7 @@ def _mjs_attach(parent, child, prefix, suffix, *, prepare=False):
     if prepare:
         return _bind_mjs_attach(parent, c_parent, c_child, c_prefix, c_suffix)
     ret = _lib.mjcffi_guard_mjs_attach(c_parent, c_child, c_prefix, c_suffix)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsElement, ret, parent)
 
@@ -18911,7 +18911,7 @@ def _bind_mjs_addBody(body, c_body, c_def_):
 
     def call():
         ret = guard(c_body, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsBody, ret, body)
     return call
@@ -18927,7 +18927,7 @@ def _mjs_addBody(body, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addBody(body, c_body, c_def_)
     ret = _lib.mjcffi_guard_mjs_addBody(c_body, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsBody, ret, body)
 
@@ -18948,7 +18948,7 @@ def _bind_mjs_addSite(body, c_body, c_def_):
 
     def call():
         ret = guard(c_body, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsSite, ret, body)
     return call
@@ -18964,7 +18964,7 @@ def _mjs_addSite(body, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addSite(body, c_body, c_def_)
     ret = _lib.mjcffi_guard_mjs_addSite(c_body, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsSite, ret, body)
 
@@ -18985,7 +18985,7 @@ def _bind_mjs_addJoint(body, c_body, c_def_):
 
     def call():
         ret = guard(c_body, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsJoint, ret, body)
     return call
@@ -19001,7 +19001,7 @@ def _mjs_addJoint(body, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addJoint(body, c_body, c_def_)
     ret = _lib.mjcffi_guard_mjs_addJoint(c_body, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsJoint, ret, body)
 
@@ -19022,7 +19022,7 @@ def _bind_mjs_addFreeJoint(body, c_body):
 
     def call():
         ret = guard(c_body)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsJoint, ret, body)
     return call
@@ -19037,7 +19037,7 @@ def _mjs_addFreeJoint(body, *, prepare=False):
     if prepare:
         return _bind_mjs_addFreeJoint(body, c_body)
     ret = _lib.mjcffi_guard_mjs_addFreeJoint(c_body)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsJoint, ret, body)
 
@@ -19058,7 +19058,7 @@ def _bind_mjs_addGeom(body, c_body, c_def_):
 
     def call():
         ret = guard(c_body, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsGeom, ret, body)
     return call
@@ -19074,7 +19074,7 @@ def _mjs_addGeom(body, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addGeom(body, c_body, c_def_)
     ret = _lib.mjcffi_guard_mjs_addGeom(c_body, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsGeom, ret, body)
 
@@ -19095,7 +19095,7 @@ def _bind_mjs_addCamera(body, c_body, c_def_):
 
     def call():
         ret = guard(c_body, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsCamera, ret, body)
     return call
@@ -19111,7 +19111,7 @@ def _mjs_addCamera(body, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addCamera(body, c_body, c_def_)
     ret = _lib.mjcffi_guard_mjs_addCamera(c_body, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsCamera, ret, body)
 
@@ -19132,7 +19132,7 @@ def _bind_mjs_addLight(body, c_body, c_def_):
 
     def call():
         ret = guard(c_body, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsLight, ret, body)
     return call
@@ -19148,7 +19148,7 @@ def _mjs_addLight(body, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addLight(body, c_body, c_def_)
     ret = _lib.mjcffi_guard_mjs_addLight(c_body, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsLight, ret, body)
 
@@ -19169,7 +19169,7 @@ def _bind_mjs_addFrame(body, c_body, c_parentframe):
 
     def call():
         ret = guard(c_body, c_parentframe)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsFrame, ret, body)
     return call
@@ -19185,7 +19185,7 @@ def _mjs_addFrame(body, parentframe, *, prepare=False):
     if prepare:
         return _bind_mjs_addFrame(body, c_body, c_parentframe)
     ret = _lib.mjcffi_guard_mjs_addFrame(c_body, c_parentframe)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsFrame, ret, body)
 
@@ -19221,7 +19221,7 @@ def _bind_mjs_addActuator(s, c_s, c_def_):
 
     def call():
         ret = guard(c_s, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsActuator, ret, s)
     return call
@@ -19237,7 +19237,7 @@ def _mjs_addActuator(s, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addActuator(s, c_s, c_def_)
     ret = _lib.mjcffi_guard_mjs_addActuator(c_s, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsActuator, ret, s)
 
@@ -19258,7 +19258,7 @@ def _bind_mjs_addSensor(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsSensor, ret, s)
     return call
@@ -19273,7 +19273,7 @@ def _mjs_addSensor(s, *, prepare=False):
     if prepare:
         return _bind_mjs_addSensor(s, c_s)
     ret = _lib.mjcffi_guard_mjs_addSensor(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsSensor, ret, s)
 
@@ -19294,7 +19294,7 @@ def _bind_mjs_addFlex(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsFlex, ret, s)
     return call
@@ -19309,7 +19309,7 @@ def _mjs_addFlex(s, *, prepare=False):
     if prepare:
         return _bind_mjs_addFlex(s, c_s)
     ret = _lib.mjcffi_guard_mjs_addFlex(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsFlex, ret, s)
 
@@ -19342,7 +19342,7 @@ def _bind_mjs_makeFlex(
                 "inertiabox": ("double", inertiabox), "equality": ("int", equality),
                 "rigid": ("int", rigid), "flatskin": ("int", flatskin),
                 "elastic2d": ("int", elastic2d)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsFlex, ret, body)
     return call
@@ -19387,7 +19387,7 @@ def _mjs_makeFlex(body, name, type, dim, dof, count, cellcount, spacing, scale, 
             "inertiabox": ("double", inertiabox), "equality": ("int", equality),
             "rigid": ("int", rigid), "flatskin": ("int", flatskin),
             "elastic2d": ("int", elastic2d)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsFlex, ret, body)
 
@@ -19416,7 +19416,7 @@ def _bind_mjs_addPair(s, c_s, c_def_):
 
     def call():
         ret = guard(c_s, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsPair, ret, s)
     return call
@@ -19432,7 +19432,7 @@ def _mjs_addPair(s, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addPair(s, c_s, c_def_)
     ret = _lib.mjcffi_guard_mjs_addPair(c_s, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsPair, ret, s)
 
@@ -19453,7 +19453,7 @@ def _bind_mjs_addExclude(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsExclude, ret, s)
     return call
@@ -19468,7 +19468,7 @@ def _mjs_addExclude(s, *, prepare=False):
     if prepare:
         return _bind_mjs_addExclude(s, c_s)
     ret = _lib.mjcffi_guard_mjs_addExclude(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsExclude, ret, s)
 
@@ -19489,7 +19489,7 @@ def _bind_mjs_addEquality(s, c_s, c_def_):
 
     def call():
         ret = guard(c_s, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsEquality, ret, s)
     return call
@@ -19505,7 +19505,7 @@ def _mjs_addEquality(s, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addEquality(s, c_s, c_def_)
     ret = _lib.mjcffi_guard_mjs_addEquality(c_s, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsEquality, ret, s)
 
@@ -19526,7 +19526,7 @@ def _bind_mjs_addTendon(s, c_s, c_def_):
 
     def call():
         ret = guard(c_s, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsTendon, ret, s)
     return call
@@ -19542,7 +19542,7 @@ def _mjs_addTendon(s, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addTendon(s, c_s, c_def_)
     ret = _lib.mjcffi_guard_mjs_addTendon(c_s, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsTendon, ret, s)
 
@@ -19563,7 +19563,7 @@ def _bind_mjs_wrapSite(tendon, c_tendon, c_name):
 
     def call():
         ret = guard(c_tendon, c_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsWrap, ret, tendon)
     return call
@@ -19579,7 +19579,7 @@ def _mjs_wrapSite(tendon, name, *, prepare=False):
     if prepare:
         return _bind_mjs_wrapSite(tendon, c_tendon, c_name)
     ret = _lib.mjcffi_guard_mjs_wrapSite(c_tendon, c_name)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsWrap, ret, tendon)
 
@@ -19600,7 +19600,7 @@ def _bind_mjs_wrapGeom(tendon, c_tendon, c_name, c_sidesite):
 
     def call():
         ret = guard(c_tendon, c_name, c_sidesite)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsWrap, ret, tendon)
     return call
@@ -19617,7 +19617,7 @@ def _mjs_wrapGeom(tendon, name, sidesite, *, prepare=False):
     if prepare:
         return _bind_mjs_wrapGeom(tendon, c_tendon, c_name, c_sidesite)
     ret = _lib.mjcffi_guard_mjs_wrapGeom(c_tendon, c_name, c_sidesite)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsWrap, ret, tendon)
 
@@ -19641,7 +19641,7 @@ def _bind_mjs_wrapJoint(tendon, c_tendon, c_name, coef):
             ret = guard(c_tendon, c_name, coef)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_wrapJoint", {"coef": ("double", coef)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsWrap, ret, tendon)
     return call
@@ -19661,7 +19661,7 @@ def _mjs_wrapJoint(tendon, name, coef, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_wrapJoint(c_tendon, c_name, coef)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_wrapJoint", {"coef": ("double", coef)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsWrap, ret, tendon)
 
@@ -19685,7 +19685,7 @@ def _bind_mjs_wrapPulley(tendon, c_tendon, divisor):
             ret = guard(c_tendon, divisor)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_wrapPulley", {"divisor": ("double", divisor)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsWrap, ret, tendon)
     return call
@@ -19704,7 +19704,7 @@ def _mjs_wrapPulley(tendon, divisor, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_wrapPulley(c_tendon, divisor)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_wrapPulley", {"divisor": ("double", divisor)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsWrap, ret, tendon)
 
@@ -19725,7 +19725,7 @@ def _bind_mjs_addNumeric(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsNumeric, ret, s)
     return call
@@ -19740,7 +19740,7 @@ def _mjs_addNumeric(s, *, prepare=False):
     if prepare:
         return _bind_mjs_addNumeric(s, c_s)
     ret = _lib.mjcffi_guard_mjs_addNumeric(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsNumeric, ret, s)
 
@@ -19761,7 +19761,7 @@ def _bind_mjs_addText(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsText, ret, s)
     return call
@@ -19776,7 +19776,7 @@ def _mjs_addText(s, *, prepare=False):
     if prepare:
         return _bind_mjs_addText(s, c_s)
     ret = _lib.mjcffi_guard_mjs_addText(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsText, ret, s)
 
@@ -19797,7 +19797,7 @@ def _bind_mjs_addTuple(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsTuple, ret, s)
     return call
@@ -19812,7 +19812,7 @@ def _mjs_addTuple(s, *, prepare=False):
     if prepare:
         return _bind_mjs_addTuple(s, c_s)
     ret = _lib.mjcffi_guard_mjs_addTuple(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsTuple, ret, s)
 
@@ -19833,7 +19833,7 @@ def _bind_mjs_addKey(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsKey, ret, s)
     return call
@@ -19848,7 +19848,7 @@ def _mjs_addKey(s, *, prepare=False):
     if prepare:
         return _bind_mjs_addKey(s, c_s)
     ret = _lib.mjcffi_guard_mjs_addKey(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsKey, ret, s)
 
@@ -19869,7 +19869,7 @@ def _bind_mjs_addPlugin(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsPlugin, ret, s)
     return call
@@ -19884,7 +19884,7 @@ def _mjs_addPlugin(s, *, prepare=False):
     if prepare:
         return _bind_mjs_addPlugin(s, c_s)
     ret = _lib.mjcffi_guard_mjs_addPlugin(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsPlugin, ret, s)
 
@@ -19905,7 +19905,7 @@ def _bind_mjs_addDefault(s, c_s, c_classname, c_parent):
 
     def call():
         ret = guard(c_s, c_classname, c_parent)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsDefault, ret, s)
     return call
@@ -19922,7 +19922,7 @@ def _mjs_addDefault(s, classname, parent=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addDefault(s, c_s, c_classname, c_parent)
     ret = _lib.mjcffi_guard_mjs_addDefault(c_s, c_classname, c_parent)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsDefault, ret, s)
 
@@ -19943,7 +19943,7 @@ def _bind_mjs_setToMotor(c_actuator):
 
     def call():
         ret = guard(c_actuator)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -19958,7 +19958,7 @@ def _mjs_setToMotor(actuator, *, prepare=False):
     if prepare:
         return _bind_mjs_setToMotor(c_actuator)
     ret = _lib.mjcffi_guard_mjs_setToMotor(c_actuator)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -19983,7 +19983,7 @@ def _bind_mjs_setToPosition(c_actuator, kp, c_kv, c_dampratio, c_timeconst, inhe
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setToPosition", {
                 "kp": ("double", kp), "inheritrange": ("double", inheritrange)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -20008,7 +20008,7 @@ def _mjs_setToPosition(actuator, kp, kv, dampratio, timeconst, inheritrange, *, 
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setToPosition", {
             "kp": ("double", kp), "inheritrange": ("double", inheritrange)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -20037,7 +20037,7 @@ def _bind_mjs_setToIntVelocity(c_actuator, kp, c_kv, c_dampratio, c_timeconst, i
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setToIntVelocity", {
                 "kp": ("double", kp), "inheritrange": ("double", inheritrange)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -20062,7 +20062,7 @@ def _mjs_setToIntVelocity(actuator, kp, kv, dampratio, timeconst, inheritrange, 
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setToIntVelocity", {
             "kp": ("double", kp), "inheritrange": ("double", inheritrange)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -20090,7 +20090,7 @@ def _bind_mjs_setToVelocity(c_actuator, kv):
             ret = guard(c_actuator, kv)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setToVelocity", {"kv": ("double", kv)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -20109,7 +20109,7 @@ def _mjs_setToVelocity(actuator, kv, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_setToVelocity(c_actuator, kv)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setToVelocity", {"kv": ("double", kv)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -20134,7 +20134,7 @@ def _bind_mjs_setToOrientation(c_actuator, kp, c_kv, c_dampratio, ctrlspec):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setToOrientation", {
                 "kp": ("double", kp), "ctrlspec": ("int", ctrlspec)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -20157,7 +20157,7 @@ def _mjs_setToOrientation(actuator, kp, kv, dampratio, ctrlspec, *, prepare=Fals
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setToOrientation", {
             "kp": ("double", kp), "ctrlspec": ("int", ctrlspec)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -20188,7 +20188,7 @@ def _bind_mjs_setToPID(
             raise _m.scalar_error(exc, "mjs_setToPID", {
                 "kp": ("double", kp), "inheritrange": ("double", inheritrange),
                 "ctrlspec": ("int", ctrlspec)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -20218,7 +20218,7 @@ def _mjs_setToPID(actuator, kp, kv, dampratio, ki, imax, slewmax, inheritrange, 
         raise _m.scalar_error(exc, "mjs_setToPID", {
             "kp": ("double", kp), "inheritrange": ("double", inheritrange),
             "ctrlspec": ("int", ctrlspec)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -20248,7 +20248,7 @@ def _bind_mjs_setToDamper(c_actuator, kv):
             ret = guard(c_actuator, kv)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setToDamper", {"kv": ("double", kv)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -20267,7 +20267,7 @@ def _mjs_setToDamper(actuator, kv, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_setToDamper(c_actuator, kv)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setToDamper", {"kv": ("double", kv)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -20293,7 +20293,7 @@ def _bind_mjs_setToCylinder(c_actuator, timeconst, bias, area, diameter):
             raise _m.scalar_error(exc, "mjs_setToCylinder", {
                 "timeconst": ("double", timeconst), "bias": ("double", bias),
                 "area": ("double", area), "diameter": ("double", diameter)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -20316,7 +20316,7 @@ def _mjs_setToCylinder(actuator, timeconst, bias, area, diameter, *, prepare=Fal
         raise _m.scalar_error(exc, "mjs_setToCylinder", {
             "timeconst": ("double", timeconst), "bias": ("double", bias), "area": ("double", area),
             "diameter": ("double", diameter)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -20346,7 +20346,7 @@ def _bind_mjs_setToMuscle(
                 "tausmooth": ("double", tausmooth), "force": ("double", force),
                 "scale": ("double", scale), "lmin": ("double", lmin), "lmax": ("double", lmax),
                 "vmax": ("double", vmax), "fpmax": ("double", fpmax), "fvmax": ("double", fvmax)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -20376,7 +20376,7 @@ def _mjs_setToMuscle(actuator, timeconst, tausmooth, range, force, scale, lmin, 
             "tausmooth": ("double", tausmooth), "force": ("double", force),
             "scale": ("double", scale), "lmin": ("double", lmin), "lmax": ("double", lmax),
             "vmax": ("double", vmax), "fpmax": ("double", fpmax), "fvmax": ("double", fvmax)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -20403,7 +20403,7 @@ def _bind_mjs_setToAdhesion(c_actuator, gain):
             ret = guard(c_actuator, gain)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setToAdhesion", {"gain": ("double", gain)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -20422,7 +20422,7 @@ def _mjs_setToAdhesion(actuator, gain, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_setToAdhesion(c_actuator, gain)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setToAdhesion", {"gain": ("double", gain)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -20451,7 +20451,7 @@ def _bind_mjs_setToDCMotor(
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setToDCMotor", {
                 "resistance": ("double", resistance), "ctrlspec": ("int", ctrlspec)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -20484,7 +20484,7 @@ def _mjs_setToDCMotor(actuator, motorconst, resistance, nominal, saturation, ind
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setToDCMotor", {
             "resistance": ("double", resistance), "ctrlspec": ("int", ctrlspec)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -20514,7 +20514,7 @@ def _bind_mjs_addMesh(s, c_s, c_def_):
 
     def call():
         ret = guard(c_s, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsMesh, ret, s)
     return call
@@ -20530,7 +20530,7 @@ def _mjs_addMesh(s, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addMesh(s, c_s, c_def_)
     ret = _lib.mjcffi_guard_mjs_addMesh(c_s, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsMesh, ret, s)
 
@@ -20551,7 +20551,7 @@ def _bind_mjs_addHField(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsHField, ret, s)
     return call
@@ -20566,7 +20566,7 @@ def _mjs_addHField(s, *, prepare=False):
     if prepare:
         return _bind_mjs_addHField(s, c_s)
     ret = _lib.mjcffi_guard_mjs_addHField(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsHField, ret, s)
 
@@ -20587,7 +20587,7 @@ def _bind_mjs_addSkin(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsSkin, ret, s)
     return call
@@ -20602,7 +20602,7 @@ def _mjs_addSkin(s, *, prepare=False):
     if prepare:
         return _bind_mjs_addSkin(s, c_s)
     ret = _lib.mjcffi_guard_mjs_addSkin(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsSkin, ret, s)
 
@@ -20623,7 +20623,7 @@ def _bind_mjs_addTexture(s, c_s, c_def_):
 
     def call():
         ret = guard(c_s, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsTexture, ret, s)
     return call
@@ -20639,7 +20639,7 @@ def _mjs_addTexture(s, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addTexture(s, c_s, c_def_)
     ret = _lib.mjcffi_guard_mjs_addTexture(c_s, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsTexture, ret, s)
 
@@ -20660,7 +20660,7 @@ def _bind_mjs_addMaterial(s, c_s, c_def_):
 
     def call():
         ret = guard(c_s, c_def_)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsMaterial, ret, s)
     return call
@@ -20676,7 +20676,7 @@ def _mjs_addMaterial(s, def_=None, *, prepare=False):
     if prepare:
         return _bind_mjs_addMaterial(s, c_s, c_def_)
     ret = _lib.mjcffi_guard_mjs_addMaterial(c_s, c_def_)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsMaterial, ret, s)
 
@@ -20701,7 +20701,7 @@ def _bind_mjs_makeMesh(c_mesh, builtin, c_params, nparams):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_makeMesh", {
                 "builtin": ("mjtMeshBuiltin", builtin), "nparams": ("int", nparams)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -20727,7 +20727,7 @@ def _mjs_makeMesh(mesh, builtin, params, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_makeMesh", {
             "builtin": ("mjtMeshBuiltin", builtin), "nparams": ("int", nparams)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -20751,7 +20751,7 @@ def _bind_mjs_getSpec(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjSpec, ret, element)
     return call
@@ -20766,7 +20766,7 @@ def _mjs_getSpec(element, *, prepare=False):
     if prepare:
         return _bind_mjs_getSpec(element, c_element)
     ret = _lib.mjcffi_guard_mjs_getSpec(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjSpec, ret, element)
 
@@ -20787,7 +20787,7 @@ def _bind_mjs_getOriginSpec(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjSpec, ret, element)
     return call
@@ -20802,7 +20802,7 @@ def _mjs_getOriginSpec(element, *, prepare=False):
     if prepare:
         return _bind_mjs_getOriginSpec(element, c_element)
     ret = _lib.mjcffi_guard_mjs_getOriginSpec(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjSpec, ret, element)
 
@@ -20824,7 +20824,7 @@ def _bind_mjs_getCompiler(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsCompiler, ret, element)
     return call
@@ -20839,7 +20839,7 @@ def _mjs_getCompiler(element, *, prepare=False):
     if prepare:
         return _bind_mjs_getCompiler(element, c_element)
     ret = _lib.mjcffi_guard_mjs_getCompiler(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsCompiler, ret, element)
 
@@ -20860,7 +20860,7 @@ def _bind_mjs_findSpec(spec, c_spec, c_name):
 
     def call():
         ret = guard(c_spec, c_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjSpec, ret, spec)
     return call
@@ -20876,7 +20876,7 @@ def _mjs_findSpec(spec, name, *, prepare=False):
     if prepare:
         return _bind_mjs_findSpec(spec, c_spec, c_name)
     ret = _lib.mjcffi_guard_mjs_findSpec(c_spec, c_name)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjSpec, ret, spec)
 
@@ -20897,7 +20897,7 @@ def _bind_mjs_findBody(s, c_s, c_name):
 
     def call():
         ret = guard(c_s, c_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsBody, ret, s)
     return call
@@ -20913,7 +20913,7 @@ def _mjs_findBody(s, name, *, prepare=False):
     if prepare:
         return _bind_mjs_findBody(s, c_s, c_name)
     ret = _lib.mjcffi_guard_mjs_findBody(c_s, c_name)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsBody, ret, s)
 
@@ -20937,7 +20937,7 @@ def _bind_mjs_findElement(s, c_s, type, c_name):
             ret = guard(c_s, type, c_name)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_findElement", {"type": ("mjtObj", type)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsElement, ret, s)
     return call
@@ -20959,7 +20959,7 @@ def _mjs_findElement(s, type, name, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_findElement(c_s, type, c_name)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_findElement", {"type": ("mjtObj", type)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsElement, ret, s)
 
@@ -20982,7 +20982,7 @@ def _bind_mjs_findChild(body, c_body, c_name):
 
     def call():
         ret = guard(c_body, c_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsBody, ret, body)
     return call
@@ -20998,7 +20998,7 @@ def _mjs_findChild(body, name, *, prepare=False):
     if prepare:
         return _bind_mjs_findChild(body, c_body, c_name)
     ret = _lib.mjcffi_guard_mjs_findChild(c_body, c_name)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsBody, ret, body)
 
@@ -21019,7 +21019,7 @@ def _bind_mjs_getParent(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsBody, ret, element)
     return call
@@ -21034,7 +21034,7 @@ def _mjs_getParent(element, *, prepare=False):
     if prepare:
         return _bind_mjs_getParent(element, c_element)
     ret = _lib.mjcffi_guard_mjs_getParent(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsBody, ret, element)
 
@@ -21055,7 +21055,7 @@ def _bind_mjs_getFrame(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsFrame, ret, element)
     return call
@@ -21070,7 +21070,7 @@ def _mjs_getFrame(element, *, prepare=False):
     if prepare:
         return _bind_mjs_getFrame(element, c_element)
     ret = _lib.mjcffi_guard_mjs_getFrame(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsFrame, ret, element)
 
@@ -21091,7 +21091,7 @@ def _bind_mjs_findFrame(s, c_s, c_name):
 
     def call():
         ret = guard(c_s, c_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsFrame, ret, s)
     return call
@@ -21107,7 +21107,7 @@ def _mjs_findFrame(s, name, *, prepare=False):
     if prepare:
         return _bind_mjs_findFrame(s, c_s, c_name)
     ret = _lib.mjcffi_guard_mjs_findFrame(c_s, c_name)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsFrame, ret, s)
 
@@ -21128,7 +21128,7 @@ def _bind_mjs_getDefault(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsDefault, ret, element)
     return call
@@ -21143,7 +21143,7 @@ def _mjs_getDefault(element, *, prepare=False):
     if prepare:
         return _bind_mjs_getDefault(element, c_element)
     ret = _lib.mjcffi_guard_mjs_getDefault(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsDefault, ret, element)
 
@@ -21164,7 +21164,7 @@ def _bind_mjs_findDefault(s, c_s, c_classname):
 
     def call():
         ret = guard(c_s, c_classname)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsDefault, ret, s)
     return call
@@ -21180,7 +21180,7 @@ def _mjs_findDefault(s, classname, *, prepare=False):
     if prepare:
         return _bind_mjs_findDefault(s, c_s, c_classname)
     ret = _lib.mjcffi_guard_mjs_findDefault(c_s, c_classname)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsDefault, ret, s)
 
@@ -21201,7 +21201,7 @@ def _bind_mjs_getSpecDefault(s, c_s):
 
     def call():
         ret = guard(c_s)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsDefault, ret, s)
     return call
@@ -21216,7 +21216,7 @@ def _mjs_getSpecDefault(s, *, prepare=False):
     if prepare:
         return _bind_mjs_getSpecDefault(s, c_s)
     ret = _lib.mjcffi_guard_mjs_getSpecDefault(c_s)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsDefault, ret, s)
 
@@ -21237,7 +21237,7 @@ def _bind_mjs_getId(c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -21252,7 +21252,7 @@ def _mjs_getId(element, *, prepare=False):
     if prepare:
         return _bind_mjs_getId(c_element)
     ret = _lib.mjcffi_guard_mjs_getId(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -21277,7 +21277,7 @@ def _bind_mjs_firstChild(body, c_body, type, recurse):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_firstChild", {
                 "type": ("mjtObj", type), "recurse": ("int", recurse)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsElement, ret, body)
     return call
@@ -21299,7 +21299,7 @@ def _mjs_firstChild(body, type, recurse, *, prepare=False):
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_firstChild", {
             "type": ("mjtObj", type), "recurse": ("int", recurse)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsElement, ret, body)
 
@@ -21325,7 +21325,7 @@ def _bind_mjs_nextChild(body, c_body, c_child, recurse):
             ret = guard(c_body, c_child, recurse)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_nextChild", {"recurse": ("int", recurse)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsElement, ret, body)
     return call
@@ -21345,7 +21345,7 @@ def _mjs_nextChild(body, child, recurse, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_nextChild(c_body, c_child, recurse)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_nextChild", {"recurse": ("int", recurse)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsElement, ret, body)
 
@@ -21370,7 +21370,7 @@ def _bind_mjs_firstElement(s, c_s, type):
             ret = guard(c_s, type)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_firstElement", {"type": ("mjtObj", type)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsElement, ret, s)
     return call
@@ -21392,7 +21392,7 @@ def _mjs_firstElement(s, type, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_firstElement(c_s, type)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_firstElement", {"type": ("mjtObj", type)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsElement, ret, s)
 
@@ -21415,7 +21415,7 @@ def _bind_mjs_nextElement(s, c_s, c_element):
 
     def call():
         ret = guard(c_s, c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsElement, ret, s)
     return call
@@ -21431,7 +21431,7 @@ def _mjs_nextElement(s, element, *, prepare=False):
     if prepare:
         return _bind_mjs_nextElement(s, c_s, c_element)
     ret = _lib.mjcffi_guard_mjs_nextElement(c_s, c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsElement, ret, s)
 
@@ -21452,7 +21452,7 @@ def _bind_mjs_getWrapTarget(wrap, c_wrap):
 
     def call():
         ret = guard(c_wrap)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsElement, ret, wrap)
     return call
@@ -21467,7 +21467,7 @@ def _mjs_getWrapTarget(wrap, *, prepare=False):
     if prepare:
         return _bind_mjs_getWrapTarget(wrap, c_wrap)
     ret = _lib.mjcffi_guard_mjs_getWrapTarget(c_wrap)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsElement, ret, wrap)
 
@@ -21488,7 +21488,7 @@ def _bind_mjs_getWrapSideSite(wrap, c_wrap):
 
     def call():
         ret = guard(c_wrap)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsSite, ret, wrap)
     return call
@@ -21503,7 +21503,7 @@ def _mjs_getWrapSideSite(wrap, *, prepare=False):
     if prepare:
         return _bind_mjs_getWrapSideSite(wrap, c_wrap)
     ret = _lib.mjcffi_guard_mjs_getWrapSideSite(c_wrap)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsSite, ret, wrap)
 
@@ -21524,7 +21524,7 @@ def _bind_mjs_getWrapDivisor(c_wrap):
 
     def call():
         ret = guard(c_wrap)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -21539,7 +21539,7 @@ def _mjs_getWrapDivisor(wrap, *, prepare=False):
     if prepare:
         return _bind_mjs_getWrapDivisor(c_wrap)
     ret = _lib.mjcffi_guard_mjs_getWrapDivisor(c_wrap)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -21560,7 +21560,7 @@ def _bind_mjs_getWrapCoef(c_wrap):
 
     def call():
         ret = guard(c_wrap)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -21575,7 +21575,7 @@ def _mjs_getWrapCoef(wrap, *, prepare=False):
     if prepare:
         return _bind_mjs_getWrapCoef(c_wrap)
     ret = _lib.mjcffi_guard_mjs_getWrapCoef(c_wrap)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -21596,7 +21596,7 @@ def _bind_mjs_setName(c_element, c_name):
 
     def call():
         ret = guard(c_element, c_name)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -21612,7 +21612,7 @@ def _mjs_setName(element, name, *, prepare=False):
     if prepare:
         return _bind_mjs_setName(c_element, c_name)
     ret = _lib.mjcffi_guard_mjs_setName(c_element, c_name)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -21636,7 +21636,7 @@ def _bind_mjs_setBuffer(c_dest, c_array, size):
             status = guard(c_dest, c_array, size)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setBuffer", {"size": ("int", size)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -21656,13 +21656,13 @@ def _mjs_setBuffer(dest, array, *, prepare=False):
         status = _lib.mjcffi_guard_mjs_setBuffer(c_dest, c_array, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setBuffer", {"size": ("int", size)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
 @_p.preparable(_mjs_setBuffer, recheck=True)
 def mjs_setBuffer(dest, array):
-    """mjs_setBuffer(dest: mjcffi.structs._handles.MjByteVecHandle, array: bytes) -> None
+    """mjs_setBuffer(dest: mjcffi._support.handles.MjByteVecHandle, array: bytes) -> None
 
 Copy buffer.
 
@@ -21678,7 +21678,7 @@ def _bind_mjs_setString(c_dest, c_text):
 
     def call():
         status = guard(c_dest, c_text)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -21693,13 +21693,13 @@ def _mjs_setString(dest, text, *, prepare=False):
     if prepare:
         return _bind_mjs_setString(c_dest, c_text)
     status = _lib.mjcffi_guard_mjs_setString(c_dest, c_text)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
 @_p.preparable(_mjs_setString, recheck=True)
 def mjs_setString(dest, text):
-    """mjs_setString(dest: mjcffi.structs._handles.MjStringHandle, text: str) -> None
+    """mjs_setString(dest: mjcffi._support.handles.MjStringHandle, text: str) -> None
 
 Copy text to string.
 
@@ -21715,7 +21715,7 @@ def _bind_mjs_setStringVec(c_dest, c_text):
 
     def call():
         status = guard(c_dest, c_text)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -21730,13 +21730,13 @@ def _mjs_setStringVec(dest, text, *, prepare=False):
     if prepare:
         return _bind_mjs_setStringVec(c_dest, c_text)
     status = _lib.mjcffi_guard_mjs_setStringVec(c_dest, c_text)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
 @_p.preparable(_mjs_setStringVec, recheck=True)
 def mjs_setStringVec(dest, text):
-    """mjs_setStringVec(dest: mjcffi.structs._handles.MjStringVecHandle, text: str) -> None
+    """mjs_setStringVec(dest: mjcffi._support.handles.MjStringVecHandle, text: str) -> None
 
 Split text to entries and copy to string vector.
 
@@ -21755,7 +21755,7 @@ def _bind_mjs_setInStringVec(c_dest, i, c_text):
             ret = guard(c_dest, i, c_text)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setInStringVec", {"i": ("int", i)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -21775,14 +21775,14 @@ def _mjs_setInStringVec(dest, i, text, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_setInStringVec(c_dest, i, c_text)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setInStringVec", {"i": ("int", i)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
 
 @_p.preparable(_mjs_setInStringVec, recheck=True)
 def mjs_setInStringVec(dest, i, text):
-    """mjs_setInStringVec(dest: mjcffi.structs._handles.MjStringVecHandle, i: int, text: str) -> int
+    """mjs_setInStringVec(dest: mjcffi._support.handles.MjStringVecHandle, i: int, text: str) -> int
 
 Set entry in string vector.
 
@@ -21798,7 +21798,7 @@ def _bind_mjs_appendString(c_dest, c_text):
 
     def call():
         status = guard(c_dest, c_text)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -21813,13 +21813,13 @@ def _mjs_appendString(dest, text, *, prepare=False):
     if prepare:
         return _bind_mjs_appendString(c_dest, c_text)
     status = _lib.mjcffi_guard_mjs_appendString(c_dest, c_text)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
 @_p.preparable(_mjs_appendString, recheck=True)
 def mjs_appendString(dest, text):
-    """mjs_appendString(dest: mjcffi.structs._handles.MjStringVecHandle, text: str) -> None
+    """mjs_appendString(dest: mjcffi._support.handles.MjStringVecHandle, text: str) -> None
 
 Append text entry to string vector.
 
@@ -21838,7 +21838,7 @@ def _bind_mjs_setInt(c_dest, c_array, size):
             status = guard(c_dest, c_array, size)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setInt", {"size": ("int", size)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -21859,13 +21859,13 @@ def _mjs_setInt(dest, array, *, prepare=False):
         status = _lib.mjcffi_guard_mjs_setInt(c_dest, c_array, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setInt", {"size": ("int", size)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
 @_p.preparable(_mjs_setInt, recheck=True)
 def mjs_setInt(dest, array):
-    """mjs_setInt(dest: mjcffi.structs._handles.MjIntVecHandle, array: numpy.typing.NDArray[numpy.int32]) -> None
+    """mjs_setInt(dest: mjcffi._support.handles.MjIntVecHandle, array: numpy.typing.NDArray[numpy.int32]) -> None
 
 Copy int array to vector.
 
@@ -21885,7 +21885,7 @@ def _bind_mjs_appendIntVec(c_dest, c_array, size):
             status = guard(c_dest, c_array, size)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_appendIntVec", {"size": ("int", size)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -21906,13 +21906,13 @@ def _mjs_appendIntVec(dest, array, *, prepare=False):
         status = _lib.mjcffi_guard_mjs_appendIntVec(c_dest, c_array, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_appendIntVec", {"size": ("int", size)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
 @_p.preparable(_mjs_appendIntVec, recheck=True)
 def mjs_appendIntVec(dest, array):
-    """mjs_appendIntVec(dest: mjcffi.structs._handles.MjIntVecVecHandle, array: numpy.typing.NDArray[numpy.int32]) -> None
+    """mjs_appendIntVec(dest: mjcffi._support.handles.MjIntVecVecHandle, array: numpy.typing.NDArray[numpy.int32]) -> None
 
 Append int array to vector of arrays.
 
@@ -21932,7 +21932,7 @@ def _bind_mjs_setFloat(c_dest, c_array, size):
             status = guard(c_dest, c_array, size)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setFloat", {"size": ("int", size)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -21953,13 +21953,13 @@ def _mjs_setFloat(dest, array, *, prepare=False):
         status = _lib.mjcffi_guard_mjs_setFloat(c_dest, c_array, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setFloat", {"size": ("int", size)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
 @_p.preparable(_mjs_setFloat, recheck=True)
 def mjs_setFloat(dest, array):
-    """mjs_setFloat(dest: mjcffi.structs._handles.MjFloatVecHandle, array: numpy.typing.NDArray[numpy.float32]) -> None
+    """mjs_setFloat(dest: mjcffi._support.handles.MjFloatVecHandle, array: numpy.typing.NDArray[numpy.float32]) -> None
 
 Copy float array to vector.
 
@@ -21979,7 +21979,7 @@ def _bind_mjs_appendFloatVec(c_dest, c_array, size):
             status = guard(c_dest, c_array, size)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_appendFloatVec", {"size": ("int", size)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -22000,13 +22000,13 @@ def _mjs_appendFloatVec(dest, array, *, prepare=False):
         status = _lib.mjcffi_guard_mjs_appendFloatVec(c_dest, c_array, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_appendFloatVec", {"size": ("int", size)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
 @_p.preparable(_mjs_appendFloatVec, recheck=True)
 def mjs_appendFloatVec(dest, array):
-    """mjs_appendFloatVec(dest: mjcffi.structs._handles.MjFloatVecVecHandle, array: numpy.typing.NDArray[numpy.float32]) -> None
+    """mjs_appendFloatVec(dest: mjcffi._support.handles.MjFloatVecVecHandle, array: numpy.typing.NDArray[numpy.float32]) -> None
 
 Append float array to vector of arrays.
 
@@ -22026,7 +22026,7 @@ def _bind_mjs_setDouble(c_dest, c_array, size):
             status = guard(c_dest, c_array, size)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_setDouble", {"size": ("int", size)}) from None
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -22047,13 +22047,13 @@ def _mjs_setDouble(dest, array, *, prepare=False):
         status = _lib.mjcffi_guard_mjs_setDouble(c_dest, c_array, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_setDouble", {"size": ("int", size)}) from None
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
 @_p.preparable(_mjs_setDouble, recheck=True)
 def mjs_setDouble(dest, array):
-    """mjs_setDouble(dest: mjcffi.structs._handles.MjDoubleVecHandle, array: numpy.typing.NDArray[numpy.float64]) -> None
+    """mjs_setDouble(dest: mjcffi._support.handles.MjDoubleVecHandle, array: numpy.typing.NDArray[numpy.float64]) -> None
 
 Copy double array to vector.
 
@@ -22083,7 +22083,7 @@ def _bind_mjs_getName(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _h.result(ret, "mjString", element)
     return call
@@ -22098,14 +22098,14 @@ def _mjs_getName(element, *, prepare=False):
     if prepare:
         return _bind_mjs_getName(element, c_element)
     ret = _lib.mjcffi_guard_mjs_getName(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _h.result(ret, "mjString", element)
 
 
 @_p.preparable(_mjs_getName, recheck=True)
 def mjs_getName(element):
-    """mjs_getName(element: mujoco._structs.MjsElement) -> mjcffi.structs._handles.MjStringHandle
+    """mjs_getName(element: mujoco._structs.MjsElement) -> mjcffi._support.handles.MjStringHandle
 
 Get element's name.
 """
@@ -22119,7 +22119,7 @@ def _bind_mjs_getString(c_source):
 
     def call():
         ret = guard(c_source)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -22134,14 +22134,14 @@ def _mjs_getString(source, *, prepare=False):
     if prepare:
         return _bind_mjs_getString(c_source)
     ret = _lib.mjcffi_guard_mjs_getString(c_source)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
 
 @_p.preparable(_mjs_getString, recheck=True)
 def mjs_getString(source):
-    """mjs_getString(source: mjcffi.structs._handles.MjStringHandle) -> str
+    """mjs_getString(source: mjcffi._support.handles.MjStringHandle) -> str
 
 Get string contents.
 
@@ -22157,7 +22157,7 @@ def _bind_mjs_getWrapNum(c_tendonspec):
 
     def call():
         ret = guard(c_tendonspec)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -22172,7 +22172,7 @@ def _mjs_getWrapNum(tendonspec, *, prepare=False):
     if prepare:
         return _bind_mjs_getWrapNum(c_tendonspec)
     ret = _lib.mjcffi_guard_mjs_getWrapNum(c_tendonspec)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -22196,7 +22196,7 @@ def _bind_mjs_getWrap(tendonspec, c_tendonspec, i):
             ret = guard(c_tendonspec, i)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_getWrap", {"i": ("int", i)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsWrap, ret, tendonspec)
     return call
@@ -22215,7 +22215,7 @@ def _mjs_getWrap(tendonspec, i, *, prepare=False):
         ret = _lib.mjcffi_guard_mjs_getWrap(c_tendonspec, i)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_getWrap", {"i": ("int", i)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsWrap, ret, tendonspec)
 
@@ -22236,7 +22236,7 @@ def _bind_mjs_getPluginAttributes(c_plugin):
 
     def call():
         ret = guard(c_plugin)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return None if ret == _m.NULL else ret
     return call
@@ -22251,7 +22251,7 @@ def _mjs_getPluginAttributes(plugin, *, prepare=False):
     if prepare:
         return _bind_mjs_getPluginAttributes(c_plugin)
     ret = _lib.mjcffi_guard_mjs_getPluginAttributes(c_plugin)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return None if ret == _m.NULL else ret
 
@@ -22272,7 +22272,7 @@ def _bind_mjs_setDefault(c_element, c_def_):
 
     def call():
         status = guard(c_element, c_def_)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -22287,7 +22287,7 @@ def _mjs_setDefault(element, def_, *, prepare=False):
     if prepare:
         return _bind_mjs_setDefault(c_element, c_def_)
     status = _lib.mjcffi_guard_mjs_setDefault(c_element, c_def_)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -22307,7 +22307,7 @@ def _bind_mjs_setFrame(c_dest, c_frame):
 
     def call():
         ret = guard(c_dest, c_frame)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -22323,7 +22323,7 @@ def _mjs_setFrame(dest, frame, *, prepare=False):
     if prepare:
         return _bind_mjs_setFrame(c_dest, c_frame)
     ret = _lib.mjcffi_guard_mjs_setFrame(c_dest, c_frame)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -22348,7 +22348,7 @@ def _bind_mjs_resolveOrientation(c_quat, degree, c_sequence, c_orientation):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mjs_resolveOrientation", {
                 "degree": ("mjtByte", degree)}) from None
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.string(ret)
     return call
@@ -22370,7 +22370,7 @@ def _mjs_resolveOrientation(quat, degree, sequence, orientation, *, prepare=Fals
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mjs_resolveOrientation", {
             "degree": ("mjtByte", degree)}) from None
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.string(ret)
 
@@ -22439,7 +22439,7 @@ def _bind_mjs_adoptInertial(c_body, c_vfs):
 
     def call():
         ret = guard(c_body, c_vfs)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -22455,7 +22455,7 @@ def _mjs_adoptInertial(body, vfs=None, *, prepare=False):
     if prepare:
         return _bind_mjs_adoptInertial(c_body, c_vfs)
     ret = _lib.mjcffi_guard_mjs_adoptInertial(c_body, c_vfs)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -22491,7 +22491,7 @@ def _bind_mjs_setUserValue(c_element, c_key, c_data):
 
     def call():
         status = guard(c_element, c_key, c_data)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -22507,7 +22507,7 @@ def _mjs_setUserValue(element, key, data, *, prepare=False):
     if prepare:
         return _bind_mjs_setUserValue(c_element, c_key, c_data)
     status = _lib.mjcffi_guard_mjs_setUserValue(c_element, c_key, c_data)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -22542,7 +22542,7 @@ def _bind_mjs_getUserValue(c_element, c_key):
 
     def call():
         ret = guard(c_element, c_key)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return None if ret == _m.NULL else ret
     return call
@@ -22558,7 +22558,7 @@ def _mjs_getUserValue(element, key, *, prepare=False):
     if prepare:
         return _bind_mjs_getUserValue(c_element, c_key)
     ret = _lib.mjcffi_guard_mjs_getUserValue(c_element, c_key)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return None if ret == _m.NULL else ret
 
@@ -22579,7 +22579,7 @@ def _bind_mjs_deleteUserValue(c_element, c_key):
 
     def call():
         status = guard(c_element, c_key)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -22594,7 +22594,7 @@ def _mjs_deleteUserValue(element, key, *, prepare=False):
     if prepare:
         return _bind_mjs_deleteUserValue(c_element, c_key)
     status = _lib.mjcffi_guard_mjs_deleteUserValue(c_element, c_key)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -22614,7 +22614,7 @@ def _bind_mjs_sensorDim(c_sensor):
 
     def call():
         ret = guard(c_sensor)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return ret
     return call
@@ -22629,7 +22629,7 @@ def _mjs_sensorDim(sensor, *, prepare=False):
     if prepare:
         return _bind_mjs_sensorDim(c_sensor)
     ret = _lib.mjcffi_guard_mjs_sensorDim(c_sensor)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return ret
 
@@ -22664,7 +22664,7 @@ def _bind_mjs_defaultOrientation(c_orient):
 
     def call():
         status = guard(c_orient)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -22678,7 +22678,7 @@ def _mjs_defaultOrientation(orient, *, prepare=False):
     if prepare:
         return _bind_mjs_defaultOrientation(c_orient)
     status = _lib.mjcffi_guard_mjs_defaultOrientation(c_orient)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 
@@ -23020,7 +23020,7 @@ def _bind_mjs_asBody(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsBody, ret, element)
     return call
@@ -23035,7 +23035,7 @@ def _mjs_asBody(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asBody(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asBody(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsBody, ret, element)
 
@@ -23056,7 +23056,7 @@ def _bind_mjs_asGeom(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsGeom, ret, element)
     return call
@@ -23071,7 +23071,7 @@ def _mjs_asGeom(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asGeom(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asGeom(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsGeom, ret, element)
 
@@ -23092,7 +23092,7 @@ def _bind_mjs_asJoint(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsJoint, ret, element)
     return call
@@ -23107,7 +23107,7 @@ def _mjs_asJoint(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asJoint(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asJoint(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsJoint, ret, element)
 
@@ -23128,7 +23128,7 @@ def _bind_mjs_asSite(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsSite, ret, element)
     return call
@@ -23143,7 +23143,7 @@ def _mjs_asSite(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asSite(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asSite(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsSite, ret, element)
 
@@ -23164,7 +23164,7 @@ def _bind_mjs_asCamera(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsCamera, ret, element)
     return call
@@ -23179,7 +23179,7 @@ def _mjs_asCamera(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asCamera(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asCamera(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsCamera, ret, element)
 
@@ -23200,7 +23200,7 @@ def _bind_mjs_asLight(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsLight, ret, element)
     return call
@@ -23215,7 +23215,7 @@ def _mjs_asLight(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asLight(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asLight(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsLight, ret, element)
 
@@ -23236,7 +23236,7 @@ def _bind_mjs_asFrame(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsFrame, ret, element)
     return call
@@ -23251,7 +23251,7 @@ def _mjs_asFrame(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asFrame(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asFrame(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsFrame, ret, element)
 
@@ -23272,7 +23272,7 @@ def _bind_mjs_asActuator(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsActuator, ret, element)
     return call
@@ -23287,7 +23287,7 @@ def _mjs_asActuator(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asActuator(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asActuator(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsActuator, ret, element)
 
@@ -23308,7 +23308,7 @@ def _bind_mjs_asSensor(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsSensor, ret, element)
     return call
@@ -23323,7 +23323,7 @@ def _mjs_asSensor(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asSensor(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asSensor(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsSensor, ret, element)
 
@@ -23344,7 +23344,7 @@ def _bind_mjs_asFlex(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsFlex, ret, element)
     return call
@@ -23359,7 +23359,7 @@ def _mjs_asFlex(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asFlex(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asFlex(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsFlex, ret, element)
 
@@ -23380,7 +23380,7 @@ def _bind_mjs_asPair(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsPair, ret, element)
     return call
@@ -23395,7 +23395,7 @@ def _mjs_asPair(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asPair(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asPair(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsPair, ret, element)
 
@@ -23416,7 +23416,7 @@ def _bind_mjs_asEquality(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsEquality, ret, element)
     return call
@@ -23431,7 +23431,7 @@ def _mjs_asEquality(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asEquality(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asEquality(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsEquality, ret, element)
 
@@ -23452,7 +23452,7 @@ def _bind_mjs_asExclude(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsExclude, ret, element)
     return call
@@ -23467,7 +23467,7 @@ def _mjs_asExclude(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asExclude(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asExclude(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsExclude, ret, element)
 
@@ -23488,7 +23488,7 @@ def _bind_mjs_asTendon(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsTendon, ret, element)
     return call
@@ -23503,7 +23503,7 @@ def _mjs_asTendon(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asTendon(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asTendon(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsTendon, ret, element)
 
@@ -23524,7 +23524,7 @@ def _bind_mjs_asNumeric(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsNumeric, ret, element)
     return call
@@ -23539,7 +23539,7 @@ def _mjs_asNumeric(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asNumeric(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asNumeric(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsNumeric, ret, element)
 
@@ -23560,7 +23560,7 @@ def _bind_mjs_asText(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsText, ret, element)
     return call
@@ -23575,7 +23575,7 @@ def _mjs_asText(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asText(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asText(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsText, ret, element)
 
@@ -23596,7 +23596,7 @@ def _bind_mjs_asTuple(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsTuple, ret, element)
     return call
@@ -23611,7 +23611,7 @@ def _mjs_asTuple(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asTuple(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asTuple(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsTuple, ret, element)
 
@@ -23632,7 +23632,7 @@ def _bind_mjs_asKey(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsKey, ret, element)
     return call
@@ -23647,7 +23647,7 @@ def _mjs_asKey(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asKey(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asKey(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsKey, ret, element)
 
@@ -23668,7 +23668,7 @@ def _bind_mjs_asMesh(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsMesh, ret, element)
     return call
@@ -23683,7 +23683,7 @@ def _mjs_asMesh(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asMesh(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asMesh(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsMesh, ret, element)
 
@@ -23704,7 +23704,7 @@ def _bind_mjs_asHField(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsHField, ret, element)
     return call
@@ -23719,7 +23719,7 @@ def _mjs_asHField(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asHField(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asHField(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsHField, ret, element)
 
@@ -23740,7 +23740,7 @@ def _bind_mjs_asSkin(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsSkin, ret, element)
     return call
@@ -23755,7 +23755,7 @@ def _mjs_asSkin(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asSkin(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asSkin(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsSkin, ret, element)
 
@@ -23776,7 +23776,7 @@ def _bind_mjs_asTexture(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsTexture, ret, element)
     return call
@@ -23791,7 +23791,7 @@ def _mjs_asTexture(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asTexture(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asTexture(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsTexture, ret, element)
 
@@ -23812,7 +23812,7 @@ def _bind_mjs_asMaterial(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsMaterial, ret, element)
     return call
@@ -23827,7 +23827,7 @@ def _mjs_asMaterial(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asMaterial(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asMaterial(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsMaterial, ret, element)
 
@@ -23848,7 +23848,7 @@ def _bind_mjs_asPlugin(element, c_element):
 
     def call():
         ret = guard(c_element)
-        if not ret or _cb._pending:
+        if not ret or _contract.pending:
             _m.check_error()
         return _m.wrap(_structs.MjsPlugin, ret, element)
     return call
@@ -23863,7 +23863,7 @@ def _mjs_asPlugin(element, *, prepare=False):
     if prepare:
         return _bind_mjs_asPlugin(element, c_element)
     ret = _lib.mjcffi_guard_mjs_asPlugin(c_element)
-    if not ret or _cb._pending:
+    if not ret or _contract.pending:
         _m.check_error()
     return _m.wrap(_structs.MjsPlugin, ret, element)
 
@@ -23884,7 +23884,7 @@ def _bind_mjb_defaultConfig(c_config):
 
     def call():
         status = guard(c_config)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _m.check(status)
     return call
 
@@ -23898,7 +23898,7 @@ def _mjb_defaultConfig(config, *, prepare=False):
     if prepare:
         return _bind_mjb_defaultConfig(c_config)
     status = _lib.mjcffi_guard_mjb_defaultConfig(c_config)
-    if status or _cb._pending:
+    if status or _contract.pending:
         _m.check(status)
 
 

@@ -31,7 +31,7 @@ import numpy as np
 
 import mjcffi as mujoco
 from mjcffi import scenes
-from mjcffi._machine import environment
+from mjcffi._support.machine import environment
 from mjcffi.evaluation import REF_FACTOR, Setting, position_error, reference_setting
 from mjcffi.evaluation import steps_per_second as _steps_per_second
 from mjcffi.evaluation.periods import setting_model

@@ -6,11 +6,12 @@ adds construction from a model, copying and pickling.
 
 import copy
 
-from ._errors import FatalError, with_note
-from ._library import ffi, lib
-from ._views import guarded_result, struct_pointer
-from .callbacks import _register_class, _track
-from .named import MjDataNames, NamedAccess
+from ._support.errors import FatalError, with_note
+from ._support.library import ffi, lib
+from ._support.views import guarded_result, struct_pointer
+from ._support import bind as _bind
+from ._support.callbacks import _register_class, _track
+from ._support.named import MjDataNames, NamedAccess
 from .structs import mjdata
 
 _HEADER_SIZE = lib.mjcffi_data_header_size()
@@ -18,7 +19,6 @@ _LAYOUT_SIZE = lib.mjcffi_data_layout_size()
 _new_unzeroed = ffi.new_allocator(should_clear_after_alloc=False)
 
 
-_bind = None            # mjcffi.spec.bind.bind, once a bind method ran
 
 
 @_register_class        # callbacks wrap foreign pointers with it
@@ -29,7 +29,7 @@ class MjData(NamedAccess, MjDataNames, mjdata.MjData):
     cached; `d.contact` and the `efc_*` arrays are rebuilt on each read
     because their size changes every step.  `d.model` is the model it was
     made for.  Named access: `d.joint('hinge').qpos`, and one such method per
-    name category that has mjData fields (mjcffi/named.py).
+    name category that has mjData fields (mjcffi/_support/named.py).
     """
 
     def __init__(self, model):
@@ -53,12 +53,9 @@ class MjData(NamedAccess, MjDataNames, mjdata.MjData):
         accessor (the same as `d.geom(id)`), or, for a list of elements, an
         object whose fields join their values in one array (a view when their ids
         are ascending and consecutive, else a copy; assigning to a field writes
-        every element's value either way).  See mjcffi/spec/bind.py.
+        every element's value either way).  See mjcffi/_support/bind.py.
         """
-        global _bind
-        if _bind is None:         # the spec package is imported on first use only
-            from .spec.bind import bind as _bind
-        return _bind(self, specs)
+        return _bind.bind(self, specs)
 
     @property
     def _address(self):

@@ -17,9 +17,9 @@ official bindings when both are imported.  `MjLogConfig()` is all zeros (no
 console, no file, no topics), as in the official bindings.
 """
 
-from ._library import lib
-from ._marshal import struct_copy, struct_value
-from ._views import guarded, guarded_result
+from ._support.library import lib
+from ._support.marshal import struct_copy, struct_value
+from ._support.views import guarded, guarded_result
 from .structs import mjtype
 
 

@@ -5,18 +5,18 @@ adds what MuJoCo cannot say in a header: how a model is loaded, copied and
 pickled.
 """
 
-from . import _loading
+from ._support import loading as _loading
 from . import vfs as _vfs
-from ._library import ffi, lib
-from ._views import guarded_result
-from .callbacks import _register_class, _track
-from .named import MjModelNames, NamedAccess
+from ._support.library import ffi, lib
+from ._support.views import guarded_result
+from ._support import bind as _bind
+from ._support.callbacks import _register_class, _track
+from ._support.named import MjModelNames, NamedAccess
 from .structs import mjmodel
 
 _NOT_MJB = "MuJoCo could not load these bytes as an MJB model of MuJoCo 4.0"
 
 
-_bind = None            # mjcffi.spec.bind.bind, once a bind method ran
 
 
 @_register_class        # callbacks wrap foreign pointers with it
@@ -27,7 +27,7 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
     `MjModel.from_xml_string` or `MjModel.from_binary_path`.  Arrays such as
     `m.body_pos` are zero-copy NumPy views of the model's memory; sizes such
     as `m.nq` are read-only.  Named access: `m.geom('ball').rgba`, and one such
-    method per name category (mjcffi/named.py).
+    method per name category (mjcffi/_support/named.py).
     """
 
     @classmethod
@@ -77,7 +77,7 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
 
         Bytes that are no model MuJoCo can load and simulate safely (a corrupted
         pickle) raise ValueError, with a note naming the field and value that is
-        wrong (mjcffi/_modelcheck)."""
+        wrong (mjcffi/_support/modelcheck)."""
         if not isinstance(mjb, (bytes, bytearray, memoryview)):
             raise TypeError(f"mjb must be bytes, not {type(mjb).__name__}")
         return cls._from_root(_loading.load_binary_bytes(bytes(mjb), _NOT_MJB))
@@ -90,12 +90,9 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
         accessor (the same as `m.geom(id)`), or, for a list of elements, an
         object whose fields join their values in one array (a view when their ids
         are ascending and consecutive, else a copy; assigning to a field writes
-        every element's value either way).  See mjcffi/spec/bind.py.
+        every element's value either way).  See mjcffi/_support/bind.py.
         """
-        global _bind
-        if _bind is None:         # the spec package is imported on first use only
-            from .spec.bind import bind as _bind
-        return _bind(self, specs)
+        return _bind.bind(self, specs)
 
     @property
     def _address(self):

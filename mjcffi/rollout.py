@@ -7,7 +7,7 @@ The same interface as the official `mujoco.rollout`:
     with rollout.Rollout(nthread=2) as pool:
         state, sensordata = pool.rollout(model, [d0, d1], initial_state, control)
 
-The loop runs in C (mjcffi/_rollout.c) with the GIL released.  Each rollout
+The loop runs in C (mjcffi/_c/rollout.c) with the GIL released.  Each rollout
 sets its initial state (mjSTATE_FULLPHYSICS) and qacc_warmstart, resets the
 inputs that `control_spec` leaves out, then before each step sets its controls
 with mj_setState(control_spec), calls mj_step and records mj_getState and
@@ -32,10 +32,10 @@ import weakref
 
 import numpy as np
 
-from . import _marshal, callbacks
-from ._enums import mjtState
-from ._errors import FatalError, with_note
-from ._library import ffi, lib
+from ._support import contract as _contract, marshal as _marshal
+from ._generated.enums import mjtState
+from ._support.errors import FatalError, with_note
+from ._support.library import ffi, lib
 
 __all__ = ["Rollout", "rollout", "shutdown_persistent_pool"]
 
@@ -318,7 +318,7 @@ class Rollout:
         failed = np.zeros(nbatch, np.uint8)
         message = ffi.new("char[]", _MESSAGE_SIZE)
         # a Python callback's exception on the pool's threads is this call's
-        claim = callbacks._scope(datas) if callbacks._python and len(datas) > 1 else None
+        claim = _contract.scope(datas) if _contract.python_callbacks and len(datas) > 1 else None
         try:
             nfailed = lib.mjcffi_rollout(
                 pool, m, len(m), ffi.new("mjData*[]", datas), nbatch, nstep, control_spec,
@@ -329,9 +329,9 @@ class Rollout:
                 ffi.from_buffer("unsigned char[]", failed), message, _MESSAGE_SIZE)
         finally:
             if claim is not None:
-                callbacks._unscope(claim)
-        if callbacks._pending:
-            callbacks._raise_stashed()
+                _contract.unscope(claim)
+        if _contract.pending:
+            _contract.raise_stashed()
         if nfailed:
             error = FatalError(ffi.string(message).decode("utf-8", "replace"))
             error.failed = np.flatnonzero(failed)

@@ -16,7 +16,7 @@ As in the official bindings there is `set_mju_user_foo(handler)` and
   is left: memory is freed by the free that is installed when it goes.
 
 None puts MuJoCo's default back (the global set to NULL).  The handlers follow
-the rules of mjcffi/callbacks.py: the installed object is kept alive while it is
+the rules of mjcffi/_support/callbacks.py: the installed object is kept alive while it is
 installed, `get_*` returns it only while the global still holds it
 (mju_clearHandlers resets them all), and an exception raised in a Python
 warning handler is raised again when the MuJoCo call that warned returns.
@@ -29,8 +29,7 @@ through a thread-local log handler, which MuJoCo consults before it.
 
 from typing import Any, Callable, Optional
 
-from . import callbacks as _cb
-from ._library import ffi
+from ._support import callbacks as _cb
 
 __all__ = [
     "set_mju_user_warning", "get_mju_user_warning",
@@ -39,61 +38,31 @@ __all__ = [
 ]
 
 
-def _message(name):
-    slot = _cb._Slot(name, wraps=False)
-
-    def call(msg):
-        # as the trampolines of mjcffi/callbacks.py
-        fn = slot.fn
-        if fn is None:
-            return
-        _cb._active += 1
-        try:
-            if _cb._active > _cb._DEEP:
-                _cb._room(name)
-            fn(ffi.string(msg).decode("utf-8", "replace"))
-        except BaseException as error:
-            try:
-                _cb._stash(name, error, None)
-            except BaseException:
-                if _cb._local.lost is None:
-                    _cb._local.lost, _cb._nlost, _cb._pending = error, _cb._nlost + 1, True
-        finally:
-            _cb._active -= 1
-    return _cb._attach(slot, call)
-
-
-_WARNING = _message("mju_user_warning")
-_MALLOC = _cb._Slot("mju_user_malloc", python=False)
-_FREE = _cb._Slot("mju_user_free", python=False)
-
-
 def set_mju_user_warning(handler: Optional[Callable[[str], Any]]) -> None:
     """Install `handler(msg: str)` as mju_user_warning; None restores the default."""
-    _cb._set(_WARNING, handler)
+    _cb.set_user_handler("mju_user_warning", handler)
 
 
 def get_mju_user_warning() -> Optional[Callable[..., Any]]:
     """The mju_user_warning that mjcffi installed, while still installed; else None."""
-    return _cb._get(_WARNING)
+    return _cb.get_user_handler("mju_user_warning")
 
 
 def set_mju_user_malloc(handler: Any) -> None:
     """Install a C function `void* (size_t)` as mju_user_malloc; None restores malloc."""
-    _cb._set(_MALLOC, handler)
+    _cb.set_user_handler("mju_user_malloc", handler)
 
 
 def get_mju_user_malloc() -> Any:
     """The mju_user_malloc that mjcffi installed, while still installed; else None."""
-    return _cb._get(_MALLOC)
+    return _cb.get_user_handler("mju_user_malloc")
 
 
 def set_mju_user_free(handler: Any) -> None:
     """Install a C function `void (void*)` as mju_user_free; None restores free."""
-    _cb._set(_FREE, handler)
+    _cb.set_user_handler("mju_user_free", handler)
 
 
 def get_mju_user_free() -> Any:
     """The mju_user_free that mjcffi installed, while still installed; else None."""
-    return _cb._get(_FREE)
-
+    return _cb.get_user_handler("mju_user_free")

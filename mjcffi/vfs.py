@@ -21,9 +21,9 @@ import contextlib
 import os
 import threading
 
-from . import _marshal as _m
-from ._library import ffi, lib
-from ._views import guarded, guarded_result
+from ._support import marshal as _m
+from ._support.library import ffi, lib
+from ._support.views import guarded, guarded_result
 from .structs.mjmodel import MjVFS
 
 __all__ = ["MjVfs", "using"]

@@ -22,11 +22,11 @@ warning of a call is seen, the repeat of an earlier one included.
 import contextlib
 import threading
 
-from ._enums import mjtWarning
-from ._library import ffi, lib
+from ._generated.enums import mjtWarning
+from ._support import contract as _contract
+from ._support.library import ffi, lib
 
 _NWARNING = int(mjtWarning.mjNWARNING)
-_enabled = False
 _local = threading.local()     # .ignoring: depth of ignore_warnings() on this thread
 
 
@@ -46,15 +46,14 @@ class MjWarningError(RuntimeError):
 
 def set_warnings_as_errors(enabled):
     """Make mj_step and mj_forward raise MjWarningError on new warnings (or stop)."""
-    global _enabled
     if not isinstance(enabled, bool):
         raise TypeError(f"enabled must be a bool, not {type(enabled).__name__}")
-    _enabled = enabled
+    _contract.warnings_as_errors = enabled
 
 
 def get_warnings_as_errors():
     """Whether new warnings raise MjWarningError (see set_warnings_as_errors)."""
-    return _enabled
+    return _contract.warnings_as_errors
 
 
 @contextlib.contextmanager
@@ -74,7 +73,7 @@ def before_call(d):
     so a warning raised in the call shows as a non-zero count even when
     MuJoCo's auto-reset clears the counters and counts it again from zero.
     """
-    if not _enabled or getattr(_local, "ignoring", 0):
+    if not _contract.warnings_as_errors or getattr(_local, "ignoring", 0):
         return None
     return take_counts(d)
 

@@ -18,7 +18,7 @@ import inspect
 import numpy as np
 
 from codegen import functions as table
-from mjcffi._funcinfo import FUNCTIONS
+from mjcffi._generated.funcinfo import FUNCTIONS
 
 XML = """
 <mujoco>
@@ -367,7 +367,7 @@ def stubbed():
 
 
 class _NoOpenGL:
-    """Stands for mjcffi/_mjr.py: its OpenGL-state checks pass (the C call is stubbed)."""
+    """Stands for mjcffi/_support/mjr.py: its OpenGL-state checks pass (the C call is stubbed)."""
 
     def __init__(self, real):
         self._real = real

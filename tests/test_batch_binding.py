@@ -1,4 +1,4 @@
-"""Batch's lower layer `b._b` (mjcffi/_batch.py) against the official `_b`, and the
+"""Batch's lower layer `b._b` (mjcffi/batch/_batch.py) against the official `_b`, and the
 official messages of mjcffi.batch with mjcffi's detail in PEP 678 notes.
 
 The lower layer takes ids and arrays in their final dtypes and shapes and
@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi import _batch, batch
+from mjcffi.batch import _batch
+from mjcffi import batch
 
 from .test_batch import CARTPOLE
 

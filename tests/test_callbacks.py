@@ -1,4 +1,4 @@
-"""The mjcb_* callbacks (mjcffi.callbacks): Python callables, C pointers, errors.
+"""The mjcb_* callbacks (mjcffi._support.callbacks): Python callables, C pointers, errors.
 
 The globals live in the one libmujoco of the process, shared with the official
 bindings (whose import puts a timer in mjcb_time): the autouse fixture saves
@@ -20,10 +20,11 @@ import pytest
 from cffi import FFI
 
 import mjcffi
-from mjcffi import callbacks, ffi, lib
-from mjcffi._build import mujoco_package_dir
-from mjcffi._errors import check
-from mjcffi.callbacks import raise_pending_callback_error
+from mjcffi._support import callbacks, contract
+from mjcffi import ffi, lib
+from codegen.headers import include_dir as mujoco_include_dir
+from mjcffi._support.errors import check
+from mjcffi._support.callbacks import raise_pending_callback_error
 
 NAMES = ("passive", "control", "contactfilter", "sensor", "time", "act_dyn", "act_gain",
          "act_bias")
@@ -149,7 +150,7 @@ def restore_globals():
     for name in NAMES:
         setter(name)(None)
         setattr(lib, f"mjcb_{name}", saved[name])
-    leftover = callbacks._take()
+    leftover = contract._take()
     assert leftover is None, f"a test left a callback error pending: {leftover!r}"
 
 
@@ -159,7 +160,7 @@ def native(tmp_path_factory):
     builder = FFI()
     builder.cdef(NATIVE_CDEF)
     builder.set_source("mjcffi_test_native", NATIVE_SOURCE,
-                       include_dirs=[str(mujoco_package_dir() / "include")],
+                       include_dirs=[str(mujoco_include_dir())],
                        libraries=["pthread"])
     path = builder.compile(tmpdir=str(tmp_path_factory.mktemp("native")))
     spec = importlib.util.spec_from_file_location("mjcffi_test_native", path)
@@ -339,7 +340,7 @@ def test_exception_is_reraised_after_the_call_and_the_process_lives():
         raise ValueError("broken controller")
     mjcffi.set_mjcb_control(broken)
     check(lib.mjcffi_step(m._ptr, d._ptr, 3))           # no Python error crosses MuJoCo
-    assert callbacks._pending
+    assert contract.pending
     with pytest.raises(ValueError, match="broken controller") as caught:
         raise_pending_callback_error()
     assert len(calls) == 3                               # the call ran to its end
@@ -347,7 +348,7 @@ def test_exception_is_reraised_after_the_call_and_the_process_lives():
     if sys.version_info >= (3, 11):
         assert "mjcb_control" in caught.value.__notes__[0]
     raise_pending_callback_error()                       # taken once: nothing left
-    assert not callbacks._pending
+    assert not contract.pending
     mjcffi.set_mjcb_control(None)
     step(m, d)                                           # the data steps on as usual
     step(m, reference, 4)
@@ -424,7 +425,7 @@ def test_exceptions_stay_on_their_thread():
     thread = threading.Thread(target=worker)
     thread.start()
     stepped.wait()
-    assert callbacks._pending
+    assert contract.pending
     raise_pending_callback_error()                       # the worker's: not raised here
     checked.set()
     thread.join()
@@ -438,9 +439,9 @@ def test_errors_of_ended_threads_are_dropped():
         target=lambda: check(lib.mjcffi_guard_mj_step(m._ptr, mjcffi.MjData(m)._ptr)))
     thread.start()
     thread.join()
-    assert callbacks._pending                             # the worker never asked
+    assert contract.pending                             # the worker never asked
     raise_pending_callback_error()                        # not ours: nothing raised
-    assert not callbacks._pending                         # and the fast path is back
+    assert not contract.pending                         # and the fast path is back
 
 
 def test_callback_on_a_thread_python_never_saw(native):

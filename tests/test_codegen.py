@@ -14,7 +14,7 @@ def _committed_generated():
     """Files of the package that say they are generated."""
     found = []
     for path in sorted((REPO / "mjcffi").rglob("*")):
-        if path.suffix in (".py", ".pyi", ".h", ".c") and path.is_file():
+        if path.suffix in (".py", ".pyi", ".h", ".c", ".md") and path.is_file():
             with open(path) as f:
                 if MARKER in f.readline():
                     found.append(str(path.relative_to(REPO)))
@@ -43,7 +43,7 @@ def test_codegen_writes_exactly_the_committed_generated_files(regenerated):
     # a generated file codegen no longer writes, or one not yet committed, fails here
     written = sorted(str(p.relative_to(regenerated)) for p in regenerated.rglob("*") if p.is_file())
     assert written == GENERATED
-    assert {"mjcffi/_cdef.h", "mjcffi/_funcinfo.py", "mjcffi/structs/mjdata.py"} <= set(written)
+    assert {"mjcffi/_c/generated/cdef.h", "mjcffi/_generated/funcinfo.py", "mjcffi/structs/mjdata.py"} <= set(written)
 
 
 def test_every_generated_file_says_so(regenerated):

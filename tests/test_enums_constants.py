@@ -5,7 +5,7 @@ import enum
 import pytest
 
 import mjcffi
-from mjcffi import _constants, _enums
+from mjcffi._generated import constants as _constants, enums as _enums
 
 CONSTANTS = [name for name in vars(_constants) if name.startswith("mj")]
 

@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 import mjcffi
-from mjcffi import _library, _loading
+from mjcffi._support import library as _library, loading as _loading
 
 GOOD_XML = '<mujoco><worldbody><geom size=".1"/></worldbody></mujoco>'
 
@@ -145,7 +145,7 @@ def test_import_without_mujoco_core_raises_importerror(tmp_path):
     assert result.returncode == 0, result.stderr
     # An installed mjcffi reaches the real libmujoco through its rpath
     # (site-packages/mjcffi/../mujoco); an editable one has only the preload.
-    compiled = pathlib.Path(mjcffi._library._import_compiled().__file__)
+    compiled = pathlib.Path(mjcffi._support.library._import_compiled().__file__)
     if (compiled.parent.parent / "mujoco" / _library.MUJOCO_LIBRARY).exists():
         assert result.stdout.strip() == "imported"
     else:

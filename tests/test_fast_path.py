@@ -87,7 +87,7 @@ def _value(result):
         return ["float", struct.pack("d", result).hex()]
     if isinstance(result, np.ndarray):
         return ["array", result.tobytes().hex()]
-    from mjcffi._views import Struct, ValueStruct
+    from mjcffi._support.views import Struct, ValueStruct
     pointer = getattr(result, "_ptr", result)
     if isinstance(result, Struct) and not isinstance(result, ValueStruct):
         return ["struct", type(result).__name__]     # pointers inside: the kind alone
@@ -129,7 +129,7 @@ def _run(function, kwargs):
 
 def _variants(name, base):
     """(label, kwargs): the valid call, each array varied, each id at its bounds."""
-    from mjcffi._funcinfo import FUNCTIONS
+    from mjcffi._generated.funcinfo import FUNCTIONS
     from tests.test_function_conformance import variations
     yield "valid", base
     yield "valid, arrays at the front guard", {"__where": "front", **base}

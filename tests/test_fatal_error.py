@@ -17,10 +17,10 @@ import threading
 import pytest
 
 import mjcffi
-from mjcffi import _library
-from mjcffi._errors import FatalError, check, raise_pending
-from mjcffi._funcinfo import FUNCTIONS
-from mjcffi._loading import load_xml_path, load_xml_string
+from mjcffi._support import library as _library
+from mjcffi._support.errors import FatalError, check, raise_pending
+from mjcffi._generated.funcinfo import FUNCTIONS
+from mjcffi._support.loading import load_xml_path, load_xml_string
 
 from .conftest import gymnasium_assets
 
@@ -109,7 +109,7 @@ def test_mju_error_raises_with_mujocos_message():
 
 
 def test_process_survives_only_with_the_guard(tmp_path):
-    script = ("from mjcffi import lib\nfrom mjcffi._errors import FatalError, check\n"
+    script = ("from mjcffi import lib\nfrom mjcffi._support.errors import FatalError, check\n"
               "try:\n    check(lib.mjcffi_guard_mju_error(b'guarded'))\n"
               "except FatalError as e:\n    print('caught', e)\n"
               "lib.mju_error(b'unguarded')\nprint('not reached')\n")
@@ -386,6 +386,6 @@ def test_message_format_matches_official(mujoco):
 
 
 def test_errors_module_imports_only_the_library_and_stdlib():
-    source = (REPO / "mjcffi" / "_errors.py").read_text()
+    source = (REPO / "mjcffi" / "_support" / "errors.py").read_text()
     imports = re.findall(r"^(?:from|import) (\S+)", source, re.M)
-    assert set(imports) <= {"._library"}
+    assert set(imports) <= {".library"}

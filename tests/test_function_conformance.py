@@ -24,9 +24,9 @@ import pytest
 
 import mjcffi
 from codegen import functions as table
-from mjcffi import _marshal
+from mjcffi._support import marshal as _marshal
 from mjcffi import functions as F
-from mjcffi._funcinfo import FUNCTIONS
+from mjcffi._generated.funcinfo import FUNCTIONS
 
 from ._calls import XML, array_args, model_env, valid_call
 

@@ -1,4 +1,4 @@
-"""The function layer (mjcffi/functions.py): signatures, marshalling, checks, results.
+"""The function layer (mjcffi/functions/__init__.py): signatures, marshalling, checks, results.
 
 The official bindings, loaded in the same process on the same libmujoco, are
 the oracle for results; gymnasium's models are the real-world inputs.
@@ -17,7 +17,7 @@ import pytest
 import mjcffi
 from mjcffi import functions as F
 from mjcffi import structs
-from mjcffi._funcinfo import FUNCTIONS
+from mjcffi._generated.funcinfo import FUNCTIONS
 from mjcffi.data import MjData
 from mjcffi.model import MjModel
 

@@ -9,7 +9,7 @@ import re
 import pytest
 
 import mjcffi
-from mjcffi import _funcinfo
+from mjcffi._generated import funcinfo as _funcinfo
 
 
 def _scan_mjapi_functions(text):

@@ -1,6 +1,6 @@
 """MuJoCo's process globals and the arena: mjcffi.user_handlers (mju_user_*),
 mjcffi.log_config (MjLogConfig.get/set), install_timer, and the official private
-helpers _realloc_con_efc / _realloc_island (mjcffi/_arena.py).
+helpers _realloc_con_efc / _realloc_island (mjcffi/_support/arena.py).
 
 The arena layouts are checked against MuJoCo's own (mj_forward's, on gymnasium
 models) and against the official bindings' helpers on the same libmujoco.

@@ -27,7 +27,7 @@ import mjcffi
 from codegen import functions as table
 from mjcffi import functions as F
 from mjcffi import scenes, structs
-from mjcffi._funcinfo import FUNCTIONS
+from mjcffi._generated.funcinfo import FUNCTIONS
 
 from . import _calls
 
@@ -517,14 +517,14 @@ def test_item_a_raw_model_pointer_is_checked_against_the_data():
 
 def _handle_functions():
     """(function, C argument, kind) of every argument of a handle type."""
-    from mjcffi.structs import _handles
+    from mjcffi._support import handles as _handles
     return [(name, a.name, a.elem) for name, func in FUNCTIONS.items() for a in func.args
             if a.elem in _handles.KINDS and a.pointer == 1]
 
 
 def test_item_handle_kinds_are_the_typedef_void_types_of_the_headers():
     from codegen import headers, parse
-    from mjcffi.structs import _handles
+    from mjcffi._support import handles as _handles
     decls = parse.parse(headers.mujoco_declarations())
     voids = {name for name, target in decls.typedefs.items() if target.strip() == "void"}
     assert set(_handles.KINDS) == voids and len(voids) == 8
@@ -536,8 +536,8 @@ def test_item_spec_fields_of_handle_types_give_handles_that_keep_the_spec_alive(
     code, out, err = _run("""
 import gc
 from mjcffi import functions as F
-from mjcffi._structinfo import STRUCTS
-from mjcffi.structs import _handles
+from mjcffi._generated.structinfo import STRUCTS
+from mjcffi._support import handles as _handles
 from tests.fuzz.env import _SPEC_MAKERS
 s = F.mj_makeSpec()
 world = F.mjs_findBody(s, "world")
@@ -584,7 +584,7 @@ import json
 import numpy as np
 import mjcffi
 from mjcffi import ffi, functions as F
-from mjcffi.structs import _handles
+from mjcffi._support import handles as _handles
 s = F.mj_makeSpec()
 body = F.mjs_addBody(F.mjs_findBody(s, "world"), None)
 texture = F.mjs_addTexture(s, None)
@@ -645,7 +645,7 @@ def test_item_every_handle_argument_takes_only_a_handle_of_its_kind():
 
 
 def test_item_handles_work_where_mujoco_takes_them():
-    from mjcffi.structs import _handles
+    from mjcffi._support import handles as _handles
     s = F.mj_makeSpec()
     body = F.mjs_addBody(F.mjs_findBody(s, "world"), None)
     childclass = _handles.handle(body, "childclass")
@@ -827,7 +827,7 @@ def test_item_a_scene_remade_or_rewritten_outside_mjcffi_is_refused():
 def test_item_the_scene_check_costs_little():
     """Measured against the call: a model without flexes and skins pays two reads."""
     import timeit
-    from mjcffi.structs import _checks
+    from mjcffi._support import checks as _checks
     flex, skin, plain = _scene_models()
     for m, limit in ((plain, 2e-6), (flex, 2e-5)):
         scn = structs.MjvScene(m, 100)

@@ -6,7 +6,7 @@ signature and each arena array as an offset.  Unpickling takes every
 buffer pointer from a fresh MjData of the model, every arena pointer from an offset checked to
 lie inside the arena bytes with room for its count, checks every count against the model and
 the arena, and raises ValueError("Invalid serialized mjData"), the detail in a note, on anything
-else (mjcffi/_helper.c, mjcffi_restore_data).
+else (mjcffi/_c/guard.c, mjcffi_restore_data).
 
 Anything that might crash runs in a subprocess.  The byte-flip fuzz runs in subprocess batches:
 a crash ends a batch with a signal, is recorded with its case, and the next batch goes on after
@@ -31,7 +31,7 @@ import pytest
 
 import mjcffi
 from mjcffi import ffi, lib, scenes
-from mjcffi._arena import _realloc_con_efc, _realloc_island
+from mjcffi._support.arena import _realloc_con_efc, _realloc_island
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 INVALID = "Invalid serialized mjData"

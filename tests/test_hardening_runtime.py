@@ -20,8 +20,9 @@ import pytest
 from cffi import FFI
 
 import mjcffi
-from mjcffi import batch, callbacks, ffi, lib, rollout
-from mjcffi._build import mujoco_package_dir
+from mjcffi import batch, ffi, lib, rollout
+from mjcffi._support import callbacks, contract
+from codegen.headers import include_dir as mujoco_include_dir
 from mjcffi.sim import MjSim, MjSimPool, MjSimState, load_model_from_xml
 
 DOCUMENTED = (TypeError, ValueError, IndexError, KeyError, mjcffi.FatalError)
@@ -76,8 +77,8 @@ def clean_callbacks():
         getattr(mjcffi, f"set_mjcb_{name}")(None)
         setattr(lib, f"mjcb_{name}", saved[name])
     mjcffi.set_mju_user_warning(None)
-    leftover = callbacks._take()
-    assert leftover is None and not callbacks._errors, f"left pending: {leftover!r}"
+    leftover = contract._take()
+    assert leftover is None and not contract._errors, f"left pending: {leftover!r}"
 
 
 def run_python(code, timeout=120):
@@ -114,7 +115,7 @@ def test_item4_no_stale_callback_exception_after_a_threaded_rollout(persistent):
                             persistent_pool=persistent)
     assert "_DummyThread" in threads and "_MainThread" in threads   # both threads raised
     mjcffi.set_mjcb_control(None)
-    assert not callbacks._pending and not callbacks._errors
+    assert not contract.pending and not contract._errors
     d = mjcffi.MjData(m)
     mjcffi.mj_step(m, d)             # the old exception is not raised here
     mjcffi.mj_step(m, d, 10)
@@ -139,7 +140,7 @@ def test_item4_exception_only_on_a_pool_thread_reaches_the_rollout():
         mjcffi.set_mjcb_control(None)
         pool.rollout(m, datas, state, control, chunk_size=1)      # nothing left over
     mjcffi.mj_step(m, datas[0])
-    assert not callbacks._pending
+    assert not contract.pending
 
 
 def test_item4_a_concurrent_call_on_another_thread_does_not_take_it():
@@ -200,7 +201,7 @@ def native(tmp_path_factory):
           pthread_t thread;
           if (pthread_create(&thread, NULL, run, &j) == 0) pthread_join(thread, NULL);
         }
-    """, include_dirs=[str(mujoco_package_dir() / "include")], libraries=["pthread"])
+    """, include_dirs=[str(mujoco_include_dir())], libraries=["pthread"])
     path = builder.compile(tmpdir=str(tmp_path_factory.mktemp("pool_thread")))
     spec = importlib.util.spec_from_file_location("mjcffi_test_pool_thread", path)
     module = importlib.util.module_from_spec(spec)
@@ -227,7 +228,7 @@ def test_item4_exception_on_a_thread_pool_of_the_data_reaches_that_call(native):
     with pytest.raises(ValueError, match=f"on the pool of {d._address}"):
         mjcffi.mj_step(m, d)
     assert "_DummyThread" in calls and "_MainThread" in calls
-    assert not callbacks._pending
+    assert not contract.pending
     mjcffi.set_mjcb_control(None)
     mjcffi.mj_step(m, other)                  # another data's call: nothing for it
     mjcffi.mj_step(m, d)
@@ -237,7 +238,7 @@ def test_item4_exception_on_a_thread_pool_of_the_data_reaches_that_call(native):
     with pytest.raises(TypeError, match="mjcb_time callback did not return a number"):
         mjcffi.mj_forward(m, d)
     mjcffi.set_mjcb_time(None)
-    assert not callbacks._pending
+    assert not contract.pending
 
 
 def test_item4_both_threads_raise_in_one_call_the_first_wins_and_nothing_is_left(native):
@@ -253,7 +254,7 @@ def test_item4_both_threads_raise_in_one_call_the_first_wins_and_nothing_is_left
     mjcffi.set_mjcb_control(broken)
     with pytest.raises(RuntimeError, match="failure 0"):   # the caller's own ran first
         mjcffi.mj_step(m, d)
-    assert not callbacks._pending and not callbacks._errors
+    assert not contract.pending and not contract._errors
     mjcffi.set_mjcb_control(None)
     mjcffi.mj_step(m, d)
 
@@ -272,7 +273,7 @@ def test_item4_batch_takes_the_warning_handlers_exception_from_its_threads():
     with pytest.raises(ValueError, match="CTRL"):
         b.step()
     assert "_DummyThread" in seen              # raised on the batch's own threads too
-    assert not callbacks._pending
+    assert not contract.pending
     mjcffi.set_mju_user_warning(None)
     mjcffi.mj_step(m, mjcffi.MjData(m))        # a later call gets nothing
     b.ctrl = 0.0
@@ -292,7 +293,7 @@ def test_item4_simpool_steps_every_sim_then_raises_the_first_error():
     with pytest.raises(ValueError, match=f"sim {sims[1].data._address}"):
         pool.step()
     assert [s.data.time for s in sims] == [3 * model.opt.timestep] * 4   # all stepped
-    assert not callbacks._pending
+    assert not contract.pending
     pool.close()
 
 
@@ -301,7 +302,7 @@ def test_item4_simpool_steps_every_sim_then_raises_the_first_error():
 def test_item5_reentrant_step_raises_recursion_error_at_any_depth():
     code = """
         import sys, mjcffi
-        from mjcffi import callbacks
+        from mjcffi._support import callbacks, contract
         m = mjcffi.MjModel.from_xml_string(%r)
         d = mjcffi.MjData(m)
         def control(model, data):
@@ -318,7 +319,7 @@ def test_item5_reentrant_step_raises_recursion_error_at_any_depth():
                 assert "mj_step: this mjData is in a MuJoCo call on this thread" in str(exc)
             else:
                 raise SystemExit(f"no exception from depth {depth}")
-            assert not callbacks._pending and callbacks._local.lost is None, depth
+            assert not contract.pending and contract.local.lost is None, depth
         mjcffi.set_mjcb_control(None)
         mjcffi.mj_resetData(m, d)
         mjcffi.mj_step(m, d, 10)
@@ -581,7 +582,7 @@ def test_item_expand_refuses_index_fields(name):
 
 
 def test_item_expand_index_fields_come_from_the_metadata():
-    from mjcffi._structinfo import STRUCTS
+    from mjcffi._generated.structinfo import STRUCTS
     docs = {field.name: field.doc for field in STRUCTS["mjModel"]}
     m = mjcffi.MjModel.from_xml_string(FREE_AND_FILTER)
     for name in batch.MODEL_FIELDS:
@@ -650,7 +651,8 @@ def test_item_imports_callbacks_load_the_wrapper_classes_without_importing_them(
         mujoco.mj_step(m, mujoco.MjData(m))
         mjcffi.set_mjcb_control(None)
         assert seen and set(seen) == {("MjModel", "MjData")}, seen
-        from mjcffi import callbacks, model, data
+        from mjcffi import model, data
+        from mjcffi._support import callbacks, contract
         assert callbacks._CLASSES == {"mjModel": model.MjModel, "mjData": data.MjData}
         print("ok")
     """ % PENDULUM

@@ -13,8 +13,9 @@ import pytest
 
 import mjcffi
 from codegen.structs import _EXTENTS
-from mjcffi import _views, structs
-from mjcffi._structinfo import STRUCTS
+from mjcffi._support import views as _views
+from mjcffi import structs
+from mjcffi._generated.structinfo import STRUCTS
 
 ffi, lib = mjcffi.ffi, mjcffi.lib
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 import mjcffi
-from mjcffi import _structinfo
+from mjcffi._generated import structinfo as _structinfo
 
 ffi = mjcffi.ffi
 
@@ -57,81 +57,54 @@ def test_basic_types_have_the_abi_sizes(name, size):
 
 # ------------------------------------------------------------ import layering
 #
-# README, "Layout": imports run one way.  The compiled module and the support
-# modules sit at the bottom; the generated modules use only those; the
-# hand-written layer on top uses both.  The generated tables (enums, constants,
-# struct, function and name metadata) hold data only and import nothing of the
-# package: any module may read them.  Every import statement counts, also one
-# inside a function ("imported on use" is still an import of that layer).
+# README, "Layout": the tree shows the tiers, and imports run down them.  A module's
+# tier is read from where it lies:
+#   tables     mjcffi/_generated/          generated data; imports nothing of the package
+#   compiled   mjcffi._mjcffi              built from mjcffi/_c/
+#   support    mjcffi/_support/            imports the compiled module, tables and itself
+#   generated  mjcffi/structs/, mjcffi/_functions.py   (the kept paths) use those three
+#   top        everything else: the public modules and subpackages, the mujoco-py face
+# Every import statement counts, one inside a function too ("imported on use" is still
+# an import of that module), and no module may reach itself through its imports.
 
 PACKAGE = Path(mjcffi.__file__).parent
-
-TABLES = {"_enums", "_constants", "_structinfo", "_funcinfo", "_namedinfo",
-          "sim.generated"}     # mujoco-py's names for the constants (issue 15)
-SUPPORT = {"_library", "_errors", "_views", "_marshal", "_arena", "_loading", "plugins",
-           "_stringtables", "callbacks", "named", "_simsupport", "_modelcheck",
-           # not named in the README's list, and importing nothing of the package
-           "_aliases", "scenes", "_machine", "_build", "_progress",
-           # prepared calls (issue 25): imports only the standard library
-           "_prepared",
-           # what the mjr_* functions check of their OpenGL context (issue 12)
-           "_mjr", "structs._checks", "structs._handles",
-           "structs._elements", "structs._element_fields", "structs._element_vectors",
-           "structs._element_adders"}
-GENERATED = {"_functions", "_simgetters", "structs"}
-# Units of their own inside a package: the hand-written modules beside the generated
-# struct classes, used by them and by the support layer (the mjr_* checks), in the
-# support layer; and mjcffi.sim's generated constants, a table.
-OWN_UNITS = {"sim.generated", "structs._checks", "structs._handles", "structs._elements",
-             "structs._element_fields", "structs._element_vectors", "structs._element_adders"}
-TOP = {"model", "data", "vfs", "log_config", "functions", "_overrides", "warning_errors",
-       "user_handlers", "rollout", "_batch", "batch", "minimize", "sim", "accuracy",
-       "__init__", "__main__",
-       # rendering (issue 12): the package holds the OpenGL contexts (cffi and glfw only)
-       # and the Renderer, which draws with the mjr_* functions; the official import paths
-       "rendering", "gl_context", "egl", "osmesa", "glfw", "renderer",
-       # model editing (issue 13): the hand-written MjSpec over the generated struct
-       "spec",
-       # the interactive viewer (issue 14): GLFW windows drawing with mjv_*/mjr_*; the
-       # mjui_* functions it builds its panels with (hand-written: their mjuiDef arrays)
-       "viewer", "_mjui",
-       # speed against error (issue 16): the evaluation core shared by accuracy and tune
-       "evaluation", "tune",
-       # rollouts on Ray (issue 17): actors running the C rollout pool
-       "distributed"}
-TIER = {**{n: "table" for n in TABLES}, **{n: "support" for n in SUPPORT},
-        **{n: "generated" for n in GENERATED}, **{n: "top" for n in TOP}, "_mjcffi": "compiled"}
-ALLOWED = {"table": set(), "compiled": set(),
-           "support": {"compiled", "table", "support"},
-           "generated": {"compiled", "table", "support", "generated"},
-           "top": {"compiled", "table", "support", "generated", "top"}}
+ORDER = ("tables", "compiled", "support", "generated", "top")
+ALLOWED = {"tables": set(), "compiled": set(),
+           "support": {"compiled", "tables", "support"},
+           "generated": {"compiled", "tables", "support", "generated"},
+           "top": set(ORDER)}
 
 
-def _unit_of(parts):
-    """The unit of a module from its path in the package: its top-level name, or one of
-    OWN_UNITS."""
-    inner = ".".join(parts[:2])
-    return inner if inner in OWN_UNITS else parts[0]
+def tier(dotted):
+    """The tier of an mjcffi module, from its place in the tree (see above)."""
+    parts = dotted.split(".")[1:]
+    if not parts:
+        return "top"
+    first = parts[0]
+    if first == "_generated":
+        return "tables"
+    if first == "_mjcffi":
+        return "compiled"
+    if first == "_support":
+        return "support"
+    if first in ("structs", "_functions"):
+        return "generated"
+    return "top"
 
 
 def _modules():
-    """Every Python module of the package: (unit, dotted name, path)."""
+    """Every Python module of the package: (dotted name, path)."""
     for path in sorted(PACKAGE.rglob("*.py")):
         parts = path.relative_to(PACKAGE).with_suffix("").parts
-        yield _unit_of(parts), ".".join(("mjcffi", *parts)), path
-
-
-def _unit(dotted):
-    """The unit ('callbacks', 'structs', 'structs._checks', '__init__') of an mjcffi module
-    name."""
-    parts = dotted.split(".")[1:]
-    return "__init__" if not parts else _unit_of(parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        yield ".".join(("mjcffi", *parts)), path
 
 
 def _exists(dotted):
     relative = Path(*dotted.split(".")[1:])
-    return (PACKAGE / relative).with_suffix(".py").exists() or (PACKAGE / relative).is_dir() \
-        or dotted == "mjcffi._mjcffi"
+    return (PACKAGE / relative).with_suffix(".py").exists() or \
+        (PACKAGE / relative / "__init__.py").exists() or dotted == "mjcffi._mjcffi"
 
 
 def _imports(dotted, path):
@@ -157,42 +130,117 @@ def _imports(dotted, path):
     return found
 
 
-def test_every_module_has_a_layer():
-    units = {unit for unit, _, _ in _modules()}
-    assert units - set(TIER) == set(), "classify new modules in TIER"
-    assert set(TIER) - units - {"_mjcffi"} == set(), "TIER names modules that are gone"
+def _graph():
+    """{module: set of the modules it imports}, over the whole package.  Importing
+    `mjcffi.spec.bind` runs `mjcffi/spec/__init__.py` first: a package of the target that
+    is not one of the importer's own (already running) packages counts as imported too."""
+    graph = {}
+    for dotted, path in _modules():
+        targets = set()
+        for target in _imports(dotted, path):
+            targets.add(target)
+            parts = target.split(".")
+            for n in range(2, len(parts)):
+                parent = ".".join(parts[:n])
+                if not dotted.startswith(parent + "."):
+                    targets.add(parent)
+        targets.discard(dotted)
+        graph[dotted] = targets
+    return graph
 
 
-def test_generated_modules_are_those_headed_so():
-    headed = {unit for unit, _, path in _modules()
-              if "generated by codegen; do not edit" in path.read_text(encoding="utf-8")[:200]}
-    assert headed == TABLES | GENERATED
+def _violations(graph):
+    return [f"{module} ({tier(module)}) imports {target} ({tier(target)})"
+            for module, targets in graph.items() for target in sorted(targets)
+            if tier(target) not in ALLOWED[tier(module)]]
 
 
-def _violations(unit, dotted, path):
-    return [f"{dotted} ({TIER[unit]}) imports {target} ({TIER[_unit(target)]})"
-            for target in _imports(dotted, path)
-            if _unit(target) != unit and TIER[_unit(target)] not in ALLOWED[TIER[unit]]]
+def _circles(graph):
+    """The import circles: each strongly connected group of two or more modules (Tarjan)."""
+    index, low, stack, on_stack, groups = {}, {}, [], set(), []
+    counter = [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in graph:
+                continue
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            group = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                group.append(w)
+                if w == v:
+                    break
+            if len(group) > 1:
+                groups.append(sorted(group))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return groups
 
 
-def test_imports_run_one_way():
-    assert [v for module in _modules() for v in _violations(*module)] == []
+def test_imports_run_down_the_tiers():
+    assert _violations(_graph()) == []
+
+
+def test_no_module_reaches_itself_through_its_imports():
+    assert _circles(_graph()) == []
 
 
 def test_item_imports_the_check_sees_lazy_relative_and_absolute_imports(tmp_path):
     # as callbacks.py and _simsupport.py once did: upward, inside a function too
     path = tmp_path / "callbacks.py"
-    path.write_text("from ._errors import with_note\n"
-                    "from ._functions import mj_objectVelocity\n"
-                    "def f():\n    from .model import MjModel\n    from . import data\n"
+    path.write_text("from .errors import with_note\n"
+                    "from .._functions import mj_objectVelocity\n"
+                    "def f():\n    from ..model import MjModel\n    from .. import data\n"
                     "import mjcffi.sim\n")
-    assert sorted(_imports("mjcffi.callbacks", path)) == [
-        "mjcffi._errors", "mjcffi._functions", "mjcffi.data", "mjcffi.model", "mjcffi.sim"]
-    assert len(_violations("callbacks", "mjcffi.callbacks", path)) == 4
+    found = sorted(_imports("mjcffi._support.callbacks", path))
+    assert found == ["mjcffi._functions", "mjcffi._support.errors", "mjcffi.data",
+                     "mjcffi.model", "mjcffi.sim"]
+    graph = {"mjcffi._support.callbacks": set(found)}
+    assert len(_violations(graph)) == 4
+
+
+def test_item_a_circle_is_found_through_a_function_level_import():
+    graph = {"mjcffi.a": {"mjcffi.b"}, "mjcffi.b": {"mjcffi.c"}, "mjcffi.c": {"mjcffi.a"},
+             "mjcffi.d": {"mjcffi.a"}}
+    assert _circles(graph) == [["mjcffi.a", "mjcffi.b", "mjcffi.c"]]
+
+
+def test_generated_files_lie_in_the_generated_places_and_nothing_else_does():
+    # the generated folders, and the two generated modules kept at paths users and pickles
+    # name (mjcffi._functions, mjcffi.structs)
+    places = ("mjcffi/_generated/", "mjcffi/_c/generated/", "mjcffi/sim/generated/",
+              "mjcffi/structs/", "mjcffi/_functions.py")
+    for path in sorted(PACKAGE.rglob("*")):
+        if not path.is_file() or path.suffix not in (".py", ".pyi", ".c", ".h", ".md"):
+            continue
+        rel = str(path.relative_to(PACKAGE.parent))
+        with open(path, encoding="utf-8") as f:
+            generated = "generated by codegen; do not edit" in f.read(300)
+        inside = rel.startswith(places) and not rel.endswith("sim/generated/__init__.py")
+        assert generated == inside, (rel, "generated" if generated else "hand-written")
+
+
+def test_the_package_root_holds_at_most_forty_entries():
+    entries = [p.name for p in PACKAGE.iterdir()
+               if p.name != "__pycache__" and not p.name.startswith("_mjcffi.")]
+    assert len(entries) <= 40, sorted(entries)
 
 
 def test_codegen_is_never_imported_at_run_time():
-    for _, dotted, path in _modules():
+    for dotted, path in _modules():
         tree = ast.parse(path.read_text(encoding="utf-8"))
         for node in ast.walk(tree):
             names = ([a.name for a in node.names] if isinstance(node, ast.Import) else

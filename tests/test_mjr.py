@@ -233,7 +233,7 @@ def lifetime_scenario():
     gc.collect()
     # a context destroyed and its handle forgotten (what GLContext.free() is to call): an
     # MjrContext made in it is lost, even where a new context gets its address
-    from mjcffi import _mjr
+    from mjcffi._support import mjr as _mjr
     fifth = mjcffi.GLContext(32, 32)
     fifth.make_current()
     lost = mjcffi.MjrContext(m, 150)
@@ -665,12 +665,12 @@ def scene_scenario():
 
 
 def ffi_label(geom):
-    from mjcffi._library import ffi
+    from mjcffi._support.library import ffi
     return ffi.buffer(geom._ptr.label)
 
 
 def set_label(geom, raw):
-    from mjcffi._library import ffi
+    from mjcffi._support.library import ffi
     ffi.memmove(geom._ptr.label, raw, len(raw))
 
 
@@ -765,7 +765,7 @@ def drawing_scenario():
 
 
 def _set_chars(array, raw):
-    from mjcffi._library import ffi
+    from mjcffi._support.library import ffi
     ffi.memmove(array, raw + b"\0" * (len(array) - len(raw)) if len(raw) < len(array)
                 else raw[:len(array)], len(array))
 
@@ -847,7 +847,7 @@ def test_forget_context_may_run_while_the_release_lock_is_held():
     # GLContext.__del__, whose forget_context takes the lock again: no deadlock
     import threading
 
-    from mjcffi import _mjr
+    from mjcffi._support import mjr as _mjr
     done = []
 
     def run():

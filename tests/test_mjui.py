@@ -15,7 +15,7 @@ import pytest
 
 import mjcffi
 from mjcffi import mjtItem as I
-from mjcffi._library import ffi
+from mjcffi._support.library import ffi
 from tests import _gl
 
 SECTION = (I.mjITEM_SECTION, "Section", 1)

@@ -1,4 +1,4 @@
-"""The model validator (mjcffi/_modelcheck): every real model passes it and
+"""The model validator (mjcffi/_support/modelcheck): every real model passes it and
 round-trips through pickle; a corrupted MJB, pickle or MJB file is a ValueError
 whose note names the field, for every check it runs; the fields Batch.expand
 refuses are all checked; and byte flips never crash the process."""
@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi import _modelcheck
-from mjcffi._modelcheck import CHECKED, INDEX_FIELDS, Model, mjb_problem
+from mjcffi._support import modelcheck as _modelcheck
+from mjcffi._support.modelcheck import CHECKED, INDEX_FIELDS, Model, mjb_problem
 
 from .conftest import gymnasium_assets
 
@@ -227,7 +227,7 @@ def test_every_index_field_is_covered_by_a_check_or_exempt():
 
 
 def test_batch_refuses_exactly_the_expandable_index_fields():
-    from mjcffi import _batch
+    from mjcffi.batch import _batch
     expected = (_batch._EXPANDABLE & INDEX_FIELDS) - set(_batch.CHECKED_FIELDS)
     assert _batch.INDEX_FIELDS == expected
     assert {"body_parentid", "jnt_qposadr", "geom_type", "M_colind"} <= _batch.INDEX_FIELDS
@@ -264,7 +264,7 @@ def test_assets_that_are_not_a_dict_are_a_type_error(tmp_path):
 
 
 def test_a_sound_mjb_is_checked_once_and_a_corrupted_one_every_time(monkeypatch):
-    from mjcffi import _loading
+    from mjcffi._support import loading as _loading
     calls = []
     monkeypatch.setattr(_loading._modelcheck, "mjb_problem",
                         lambda mjb: calls.append(len(mjb)) or mjb_problem(mjb))
@@ -278,7 +278,7 @@ def test_a_sound_mjb_is_checked_once_and_a_corrupted_one_every_time(monkeypatch)
 
 
 def test_the_sound_cache_keeps_the_latest_digests_only():
-    from mjcffi._loading import _Sound
+    from mjcffi._support.loading import _Sound
     sound = _Sound(2)
     for digest in (b"a", b"b", b"c"):
         sound.add(digest)
@@ -296,7 +296,7 @@ FLIPS = 300
 SWEEP = textwrap.dedent("""
     import random, sys
     import mjcffi
-    from mjcffi._modelcheck import Model, mjb
+    from mjcffi._support.modelcheck import Model, mjb
     raw_model = open(sys.argv[1], "rb").read()
     m = Model(raw_model)
     ints = [(m.offset(f.name), m.arrays[f.name].nbytes) for f in mjb.POINTERS

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi import _namedinfo, _structinfo
+from mjcffi._generated import namedinfo as _namedinfo, structinfo as _structinfo
 
 from .conftest import gymnasium_assets
 

@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi import _namedinfo, named
+from mjcffi._generated import namedinfo as _namedinfo
+from mjcffi._support import named
 
 from .conftest import gymnasium_assets
 from .test_named_plastic import JOINTS_AND_TENDONS

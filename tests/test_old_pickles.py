@@ -1,10 +1,10 @@
 """Pickles written by an earlier mjcffi still load (issue 26: the tree moved, the
 paths pickles name did not).
 
-tests/pickles/ holds an MjModel, an MjData, a value struct (MjOption) and a
-mujoco-py MjSimState, pickled (protocol 4, then gzip) by mjcffi as it was on
-2026-11-27, before the package was reorganised; expected.txt holds the values
-they carried, written by the same code.
+tests/pickles/ holds an MjModel, an MjData, a value struct (MjOption), a
+mujoco-py MjSimState and two enum members, pickled (protocol 4, then gzip) by
+mjcffi as it was on 2026-11-27, before the package was reorganised; expected.txt
+holds the values they carried, written by the same code.
 """
 
 import ast
@@ -38,3 +38,11 @@ def test_an_unpickled_data_steps_on():
     before = d.time
     mjcffi.mj_step(d.model, d, 3)
     assert d.time > before
+
+
+def test_enum_members_keep_their_official_module_path():
+    loaded = _load("enums")
+    assert loaded == {"kind": mjcffi.mjtObj.mjOBJ_GEOM, "joint": mjcffi.mjtJoint.mjJNT_HINGE}
+    assert type(loaded["kind"]) is mjcffi.mjtObj
+    # pickled now, they name the same path: mjcffi._enums, as mujoco._enums
+    assert b"mjcffi._enums" in pickle.dumps(mjcffi.mjtObj.mjOBJ_BODY)

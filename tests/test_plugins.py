@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi import plugins
+from mjcffi._support import plugins
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 

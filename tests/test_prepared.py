@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi import _prepared
+from mjcffi._support import prepared as _prepared
 from mjcffi import functions as F
 from codegen import functions as table
 
@@ -366,7 +366,7 @@ def test_hand_written_functions_bind_their_arguments(tmp_path):
 
 def _names_by_type(m):
     """(mjtObj, name) of every named element, for each type with a count."""
-    from mjcffi._marshal import COUNT_OF
+    from mjcffi._support.marshal import COUNT_OF
     found = []
     for objtype, field in COUNT_OF.items():
         for i in range(getattr(m._ptr, field)):

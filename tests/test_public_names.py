@@ -9,7 +9,7 @@ import sys
 import pytest
 
 import mjcffi
-from mjcffi import _stringtables
+from mjcffi._support import stringtables as _stringtables
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -52,7 +52,7 @@ ENUM_OF = {"mjDISABLESTRING": ("mjtDisableBit", "mjNDISABLE"),
 
 
 def test_the_tables_are_every_string_array_of_the_headers():
-    cdef = (REPO / "mjcffi" / "_cdef.h").read_text()
+    cdef = (REPO / "mjcffi" / "_c" / "generated" / "cdef.h").read_text()
     declared = re.findall(r"extern const char\s*\*\s*(\w+)\[", cdef)
     assert tuple(declared) == _stringtables.NAMES == tuple(ENUM_OF)
 
@@ -108,8 +108,8 @@ def _run(code):
 
 def test_import_loads_none_of_the_lazy_parts():
     loaded = _run("import sys, mjcffi\n"
-                  "print(' '.join(sorted(m for m in ('numpy', 'mjcffi.plugins', 'mjcffi.vfs',"
-                  " 'mjcffi._stringtables', 'mjcffi.model') if m in sys.modules)))")
+                  "print(' '.join(sorted(m for m in ('numpy', 'mjcffi._support.plugins', 'mjcffi.vfs',"
+                  " 'mjcffi._support.stringtables', 'mjcffi.model') if m in sys.modules)))")
     assert loaded.strip() == ""
 
 

@@ -123,7 +123,7 @@ class BrokenModder(FailingModder):
 def images_scenario():
     """Pooled images against single renders: states, order, depth, camera, views."""
     import numpy as np
-    from mjcffi.rendering._simrenderpool import MjRenderPool
+    from mjcffi.sim.mjrenderpool import MjRenderPool
     _spawn()
     sim, states = _sim_and_states(5)
     out = {}
@@ -177,7 +177,7 @@ def images_scenario():
 
 def modder_scenario():
     """randomize=True: each worker's TextureModder (random_state = its index)."""
-    from mjcffi.rendering._simrenderpool import MjRenderPool
+    from mjcffi.sim.mjrenderpool import MjRenderPool
     from mjcffi.sim import TextureModder
     _spawn()
     sim, states = _sim_and_states(2)
@@ -206,7 +206,7 @@ def lifetime_scenario():
     import multiprocessing
     import os
     import signal
-    from mjcffi.rendering._simrenderpool import MjRenderPool
+    from mjcffi.sim.mjrenderpool import MjRenderPool
     _spawn()
     sim, states = _sim_and_states(2)
     model = sim.model
@@ -286,7 +286,7 @@ def lifetime_scenario():
             "if __name__ == '__main__':\n"
             "    multiprocessing.set_start_method('spawn')\n"
             "    from tests.test_render_pool import _sim_and_states\n"
-            "    from mjcffi.rendering._simrenderpool import MjRenderPool\n"
+            "    from mjcffi.sim.mjrenderpool import MjRenderPool\n"
             "    sim, states = _sim_and_states(2)\n"
             "    pool = MjRenderPool(sim.model, n_workers=2)\n"
             "    print(pool.render(16, 12, states=states).shape)\n")
@@ -299,7 +299,7 @@ def lifetime_scenario():
 def bad_input_scenario():
     """Every refusal of the constructor and of render, by its message."""
     import numpy as np
-    from mjcffi.rendering._simrenderpool import MjRenderPool
+    from mjcffi.sim.mjrenderpool import MjRenderPool
     from mjcffi.sim import MjSim, MjSimState, TextureModder, load_model_from_xml
     _spawn()
     sim, states = _sim_and_states(1)
@@ -345,7 +345,7 @@ def bad_input_scenario():
 def spawn_scenario():
     """Start methods other than 'spawn' are refused, and asking fixes no method."""
     import multiprocessing
-    from mjcffi.rendering._simrenderpool import MjRenderPool
+    from mjcffi.sim.mjrenderpool import MjRenderPool
     from mjcffi.sim import load_model_from_path
     model = load_model_from_path(_ant())
     out = {"default": _outcome(lambda: MjRenderPool(model)),

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi import callbacks, rollout, scenes
+from mjcffi._support import callbacks
+from mjcffi import rollout, scenes
 
 from .conftest import gymnasium_assets
 

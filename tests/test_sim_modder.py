@@ -65,10 +65,9 @@ def _humanoid():
 
 def test_the_mujoco_py_path_exports_the_four_modders():
     import mjcffi.sim
-    from mjcffi.rendering import _simmodder
     from mjcffi.sim import modder
     for name in ("TextureModder", "MaterialModder", "LightModder", "CameraModder"):
-        assert getattr(modder, name) is getattr(_simmodder, name)
+        assert isinstance(getattr(modder, name), type)
         assert name in modder.__all__
     assert mjcffi.sim.TextureModder is modder.TextureModder
     assert mjcffi.sim.MaterialModder is modder.MaterialModder

@@ -39,7 +39,7 @@ def test_const_values_are_mujocos_enum_members():
 
 
 def test_every_enum_member_is_there_without_its_prefix():
-    import mjcffi._enums as enums
+    import mjcffi._generated.enums as enums
     count = 0
     for enum_name in enums.__all__:
         for member in getattr(enums, enum_name):
@@ -49,7 +49,7 @@ def test_every_enum_member_is_there_without_its_prefix():
 
 
 def test_define_constants_match_mjcffi_constants():
-    import mjcffi._constants as defines
+    import mjcffi._generated.constants as defines
     names = [n for n in vars(defines) if n.startswith("mj")]
     assert len(names) > 50
     for name in names:

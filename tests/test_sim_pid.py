@@ -1,4 +1,4 @@
-"""mujoco-py's PID actuators (mjcffi.sim._pid.set_pid_control, C callbacks in mjcffi/_pid.c).
+"""mujoco-py's PID actuators (mjcffi.sim._pid.set_pid_control, C callbacks in mjcffi/_c/sim_pid.c).
 
 The callbacks are process-global: the autouse fixture clears mjcb_act_gain and
 mjcb_act_bias after each test.  Models are plain mjcffi MjModel / MjData, stepped
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi import callbacks
+from mjcffi._support import callbacks
 from mjcffi.sim._pid import set_pid_control
 
 # mujoco-py's inverted pendulum of its test_pid.py, in MuJoCo 4's stricter XML

@@ -322,7 +322,7 @@ def test_modders_refuse_bad_names_and_values(backend):
 def bad_input_scenario():
     import threading
 
-    from mjcffi.rendering import _simchecks
+    from mjcffi.sim import _render_checks as _simchecks
     from mjcffi.sim import MjRenderContext, MjRenderContextOffscreen, MjSim, \
         load_model_from_xml
     sim = MjSim(load_model_from_xml(BOX))

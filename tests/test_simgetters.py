@@ -1,10 +1,10 @@
-"""mujoco-py's named getters (mjcffi/_simgetters.py), checked against independent computations."""
+"""mujoco-py's named getters (mjcffi/sim/generated/getters.py), checked against independent computations."""
 
 import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi._simgetters import SimDataGetters, SimModelGetters, UnknownIdError, UnknownNameError
+from mjcffi.sim.generated.getters import SimDataGetters, SimModelGetters, UnknownIdError, UnknownNameError
 from mjcffi.sim._model import SimData, load_model_from_mjb, load_model_from_path, \
     load_model_from_xml
 

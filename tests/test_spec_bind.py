@@ -1,4 +1,4 @@
-"""MjModel.bind / MjData.bind (mjcffi/spec/bind.py): a spec element's compiled
+"""MjModel.bind / MjData.bind (mjcffi/_support/bind.py): a spec element's compiled
 counterpart, against the official bindings and against named access."""
 
 import os
@@ -280,7 +280,7 @@ def test_sparse_rows_are_read_only_copies():
 
 
 def test_joined_shapes():
-    from mjcffi.spec.bind import _joined_shape
+    from mjcffi._support.bind import _joined_shape
     assert _joined_shape([(3,), (3,)]) == (2, 3)
     assert _joined_shape([(1,), (1,), (1,)]) == (3,)
     assert _joined_shape([(7,), (1,)]) == (8,)               # qpos: free and hinge

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import mjcffi
-from mjcffi.structs import _elements
+from mjcffi._support import elements as _elements
 from mjcffi.structs.mjspec import MjsBody, MjsGeom
 
 
@@ -499,7 +499,7 @@ def test_mjstruct_is_the_union_of_the_officials_element_classes():
 # -------------------------------------------- deleted elements and their views
 
 def _live_addresses(spec):
-    from mjcffi._library import ffi, lib
+    from mjcffi._support.library import ffi, lib
     found = set()
     for kind in [*range(1, lib.mjNOBJECT), lib.mjOBJ_FRAME]:   # all but mjOBJ_UNKNOWN
         element = lib.mjs_firstElement(spec._ptr, kind)
@@ -512,7 +512,7 @@ def _live_addresses(spec):
 def _delete(spec, element):
     """What MjSpec.delete does with the element layer: refuse while views are held,
     take the values, delete, end the wrappers of what was freed."""
-    from mjcffi._library import lib
+    from mjcffi._support.library import lib
     taken = _elements.prepare_delete(spec, element)
     assert lib.mjcffi_guard_mjs_delete(spec._ptr, element._ptr.element) == 0
     _elements.invalidate_missing(spec, _live_addresses(spec), taken)
@@ -541,7 +541,7 @@ def test_a_held_view_of_an_element_refuses_its_delete():
 
 
 def test_doomed_holds_the_subtree_and_what_may_go_with_it():
-    from mjcffi._library import lib
+    from mjcffi._support.library import lib
     spec = mjcffi.mj_makeSpec()
     world = _world(spec)
     body = world.add_body(name="b")

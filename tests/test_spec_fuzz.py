@@ -243,8 +243,8 @@ def _fingerprint(spec):
     """The number of elements of each kind: what an add_* that was refused must
     leave as it was.  (Counted in C for mjcffi: the sweep makes it often.)"""
     if type(spec).__module__.startswith("mjcffi"):
-        from mjcffi._library import ffi, lib
-        from mjcffi.spec import kinds
+        from mjcffi._support.library import ffi, lib
+        from mjcffi._support import spec_kinds as kinds
         counts = []
         for _, _, type_, _ in kinds.KINDS:
             count, element = 0, lib.mjs_firstElement(spec._ptr, type_)
@@ -598,7 +598,7 @@ _PURE = {"children", "subtree", "find_all", "find_child", "find_default", "copy"
 
 
 def _is_pure(method):
-    from mjcffi.spec import kinds
+    from mjcffi._support import spec_kinds as kinds
     return method in _PURE or method.startswith(("first_", "next_")) or \
         method in {kind[1] for kind in kinds.KINDS}
 
@@ -732,7 +732,7 @@ def _attribute_targets():
     """{path: class}: MjSpec, its structs, each element kind and the structs an
     element holds (alt, plugin, a default's geom, ...)."""
     import mjcffi
-    from mjcffi._views import Struct
+    from mjcffi._support.views import Struct
     targets = {"spec": mjcffi.MjSpec, **_nested_classes()}
     for kind, cls in _element_classes().items():
         if kind in ("spec", "body2", "main_default"):

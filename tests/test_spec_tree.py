@@ -16,7 +16,7 @@ import pytest
 
 import mjcffi
 from mjcffi import MjSpec, mjtObj
-from mjcffi.structs import _elements
+from mjcffi._support import elements as _elements
 
 gymnasium = pytest.importorskip("gymnasium")
 ASSET_DIR = os.path.join(os.path.dirname(gymnasium.__file__), "envs", "mujoco", "assets")

@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from mjcffi import _structinfo, mjtTextureRole, mjtWarning
+from mjcffi._generated import structinfo as _structinfo
+from mjcffi import mjtTextureRole, mjtWarning
 
 from .conftest import gymnasium_assets
 

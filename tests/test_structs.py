@@ -211,7 +211,7 @@ def _equal_fields(a, b, label):
     """Every field of two ValueStructs equal, NaN equal to NaN, nested ones recursively."""
     for name in a._fields:
         x, y = getattr(a, name), getattr(b, name)
-        if isinstance(x, mjcffi._views.Struct):
+        if isinstance(x, mjcffi._support.views.Struct):
             _equal_fields(x, y, f"{label}.{name}")
         elif isinstance(x, np.ndarray):
             assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), (label, name)
@@ -246,7 +246,7 @@ def test_item_struct_assignment_copies_every_byte_of_every_nested_struct():
     assigned = refused = 0
     for name, cls in classes.items():
         nested = [attr for klass in cls.__mro__ for attr, field in vars(klass).items()
-                  if isinstance(field, mjcffi._views.Nested)]
+                  if isinstance(field, mjcffi._support.views.Nested)]
         if not nested:
             continue
         owner = owners[name]              # a KeyError here: a new owner, add it above
@@ -266,7 +266,7 @@ def test_item_struct_assignment_copies_every_byte_of_every_nested_struct():
             after = _raw(owner)
             assert after[start:end] == _raw(other), (name, attr)
             assert after[:start] == before[:start] and after[end:] == before[end:], (name, attr)
-            if isinstance(target, mjcffi._views.ValueStruct):
+            if isinstance(target, mjcffi._support.views.ValueStruct):
                 _equal_fields(target, other, f"{name}.{attr}")
             assigned += 1
     assert assigned >= 25 and refused >= 2
@@ -317,7 +317,7 @@ def _compare_fields(ours, theirs, label):
     for field, _ in ours._ctype.fields:
         attr = field + "_" if field == "global" else field
         value, official = getattr(ours, attr), getattr(theirs, attr)
-        if isinstance(value, mjcffi._views.Struct):
+        if isinstance(value, mjcffi._support.views.Struct):
             compared += _compare_fields(value, official, f"{label}.{attr}")
         elif isinstance(value, np.ndarray):
             assert np.array_equal(value, official), (label, field)

@@ -32,7 +32,7 @@ def switched_off_after():
 def _step_checked(m, d):
     """One raw step between the checks the function layer makes around mj_step."""
     before = warning_errors.before_call(d)
-    mjcffi._errors.check(mjcffi.lib.mjcffi_guard_mj_step(m._ptr, d._ptr))
+    mjcffi._support.errors.check(mjcffi.lib.mjcffi_guard_mj_step(m._ptr, d._ptr))
     warning_errors.after_call(d, before)
 
 

@@ -5,9 +5,9 @@ import math
 
 import numpy as np
 
-from .. import _progress
+from .._support import progress as _progress
 from .. import rollout as _rollout
-from .._errors import FatalError
+from .._support.errors import FatalError
 from ..data import MjData
 from ._models import Store
 from ._ray import connect

@@ -8,8 +8,8 @@ once per name.  A worker fetches only the names it has not cached.
 import collections
 import hashlib
 
-from .. import _marshal
-from .._library import ffi
+from .._support import marshal as _marshal
+from .._support.library import ffi
 
 _KEEP = 256          # names (and object refs) the driver keeps between calls
 

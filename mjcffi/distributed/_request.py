@@ -10,8 +10,8 @@ import dataclasses
 import numpy as np
 
 from .. import rollout as _rollout
-from .._enums import mjtState
-from .._library import lib
+from .._generated.enums import mjtState
+from .._support.library import lib
 
 _FULLPHYSICS = int(mjtState.mjSTATE_FULLPHYSICS)
 

@@ -10,9 +10,9 @@ import os
 import numpy as np
 
 from .. import rollout as _rollout
-from .._enums import mjtState
-from .._errors import FatalError
-from .._library import lib
+from .._generated.enums import mjtState
+from .._support.errors import FatalError
+from .._support.library import lib
 from ..data import MjData
 from ..functions import mj_resetData
 from ..model import MjModel

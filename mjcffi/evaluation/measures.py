@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .._enums import mjtJoint
+from .._generated.enums import mjtJoint
 
 # joint kinds, in report order, with their units
 JOINT_KINDS = {"free_pos": "m", "free_rot": "rad", "ball": "rad", "slide": "m", "hinge": "rad"}

@@ -1,6 +1,6 @@
 """The fine reference every setting is compared with."""
 
-from .._enums import mjtIntegrator, mjtSolver
+from .._generated.enums import mjtIntegrator, mjtSolver
 from .settings import Setting
 
 REF_FACTOR = 100          # the reference timestep is the model's own divided by this

@@ -3,7 +3,7 @@
 import dataclasses
 from typing import Optional
 
-from .._enums import mjtCone, mjtDisableBit, mjtIntegrator, mjtJacobian, mjtSolver
+from .._generated.enums import mjtCone, mjtDisableBit, mjtIntegrator, mjtJacobian, mjtSolver
 
 INTEGRATOR_NAMES = {int(mjtIntegrator.mjINT_EULER): "Euler",
                     int(mjtIntegrator.mjINT_RK4): "RK4",

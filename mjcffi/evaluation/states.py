@@ -12,7 +12,7 @@ import dataclasses
 import numpy as np
 
 from .. import functions as mjf
-from .._enums import mjtState, mjtWarning
+from .._generated.enums import mjtState, mjtWarning
 from ..data import MjData
 
 FULLPHYSICS = int(mjtState.mjSTATE_FULLPHYSICS)

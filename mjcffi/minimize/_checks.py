@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from .._errors import with_note
+from .._support.errors import with_note
 
 
 def _real(name, value):

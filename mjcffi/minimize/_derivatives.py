@@ -4,7 +4,7 @@ from typing import Callable, List, Optional, TextIO, Tuple
 
 import numpy as np
 
-from .._errors import with_note
+from .._support.errors import with_note
 from ._checks import _checked_residual
 from ._types import Norm
 

@@ -17,8 +17,7 @@ package.  `_base` holds the contract they share (sizes, free, as_current),
 `_egl_devices` the choice of GPU for MUJOCO_EGL_DEVICE_ID.
 
 On top of the contexts: `renderer` (mjcffi.Renderer, the official API, with
-`_readout` turning the framebuffer into images), `recording` (render_trajectory,
-frames for notebooks), and mujoco-py's offscreen rendering for mjcffi.sim
-(`_simrender` the render contexts, `_simgl` their GL context, `_simchecks`,
-`_simmarker`, `_simmodder` its texture and material modders).
+`_readout` turning the framebuffer into images) and `recording`
+(render_trajectory, frames for notebooks).  mujoco-py's render contexts, built
+on these, are the mujoco-py face's own (mjcffi/sim/).
 """

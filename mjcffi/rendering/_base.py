@@ -21,7 +21,7 @@ A backend implements `_create`, `_bind`, `_unbind` and `_destroy`.
 import contextlib
 import threading
 
-from .. import _mjr
+from .._support import mjr as _mjr
 from . import _current
 from ._sizes import pixels
 

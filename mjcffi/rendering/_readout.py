@@ -16,8 +16,8 @@ pass.  Three kinds of image, as the official Renderer returns them:
 
 import numpy as np
 
-from .._overrides import mjr_readPixels
-from .._library import ffi
+from ..functions._overrides import mjr_readPixels
+from .._support.library import ffi
 
 # segid, objid and objtype of an mjvGeom, read straight from the scene's buffer
 _GEOM = np.dtype({"names": ["segid", "objid", "objtype"],

@@ -14,11 +14,11 @@ any code that takes a list or array of uint8 frames will do.
 
 import numpy as np
 
-from .. import _progress
-from .._enums import mjtState
+from .._support import progress as _progress
+from .._generated.enums import mjtState
 from ..data import MjData
 from .._functions import mj_setState, mj_stateSize
-from .._overrides import mj_forward
+from ..functions._overrides import mj_forward
 from .renderer import Renderer
 
 _FULLPHYSICS = int(mjtState.mjSTATE_FULLPHYSICS)

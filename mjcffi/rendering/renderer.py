@@ -21,10 +21,10 @@ import threading
 
 import numpy as np
 
-from .._enums import mjtCamera, mjtCatBit, mjtDepthMap, mjtFontScale, mjtFramebuffer, \
+from .._generated.enums import mjtCamera, mjtCatBit, mjtDepthMap, mjtFontScale, mjtFramebuffer, \
     mjtObj, mjtRndFlag
 from .._functions import mjr_render, mjr_setBuffer, mjv_defaultFreeCamera, mjv_updateScene
-from .._overrides import mj_name2id
+from ..functions._overrides import mj_name2id
 from ..model import MjModel
 from ..structs import MjrContext, MjrRect, MjvCamera, MjvOption, MjvScene
 from . import _readout, context

@@ -21,17 +21,26 @@ Rendering is offscreen, in an OpenGL context of the backend MUJOCO_GL names
 (egl, osmesa or glfw): `sim.render(width, height, camera_name=...)`, or a
 `MjRenderContextOffscreen(sim)` of one's own; `TextureModder` and
 `MaterialModder` randomize textures and materials between frames.  The
-render contexts live in mjcffi/rendering/_sim*.py.  mujoco-py's viewers,
-`MjViewer` and `MjViewerBasic` (a window drawn by `viewer.render()` in the
-caller's loop), live in mjcffi/viewer/_simviewer.py and are imported from there
-on first use, so that importing this module needs no glfw.
+render contexts are `_render` (their OpenGL context `_render_gl`, their checks
+`_render_checks`, the markers `_markers`), the render pool `mjrenderpool`.
+mujoco-py's viewers, `MjViewer` and `MjViewerBasic` (a window drawn by
+`viewer.render()` in the caller's loop), live in `mjviewer` and are imported
+from there on first use, so that importing this module needs no glfw.
+
+This package is the whole mujoco-py face, at mujoco-py's module paths (`const`,
+`functions`, `cymj`, `modder`, `mjviewer`, `mjrenderpool`, `generated`): the sim
+and its state (`_sim`, `_state`, `_base`, `_pool`, `_substep`, `_pid`, `_ray`,
+`_save`), its model and data (`_model`, `_vfs`, the generated getters of
+`generated/getters.py` and what they call, `_getter_support`), its error and
+warning hooks (`_callbacks`, `_warnings`).  The C of its PID actuators is
+mjcffi/_c/sim_pid.c, with the rest of the package's C.
 """
 
 import importlib
 
 from .. import __version__
-from ..rendering._simmodder import MaterialModder, TextureModder
-from ..rendering._simrender import MjRenderContext, MjRenderContextOffscreen
+from .modder import MaterialModder, TextureModder
+from ._render import MjRenderContext, MjRenderContextOffscreen
 from . import const, functions
 from ._callbacks import set_error_callback, set_warning_callback, wrap_mujoco_warning
 from ._model import SimData, SimModel, load_model_from_mjb, load_model_from_path, \
@@ -57,9 +66,9 @@ def get_version():
 
 # imported when first asked for: the viewers need glfw, the render pool multiprocessing;
 # MjRenderContextWindow and GlfwContext are cymj's (which imports them on use too)
-_LAZY = {"MjViewer": ("..viewer._simviewer", "MjViewer"),
-         "MjViewerBasic": ("..viewer._simviewer", "MjViewerBasic"),
-         "MjRenderPool": ("..rendering._simrenderpool", "MjRenderPool"),
+_LAZY = {"MjViewer": (".mjviewer", "MjViewer"),
+         "MjViewerBasic": (".mjviewer", "MjViewerBasic"),
+         "MjRenderPool": (".mjrenderpool", "MjRenderPool"),
          # mujoco-py's builder.build_callback_fn: C code to a substep_callback address
          "build_callback_fn": ("._substep", "build_callback_fn")}
 _FROM_CYMJ = ("MjRenderContextWindow", "GlfwContext")

@@ -14,9 +14,9 @@ MuJoCo call that warned, as soon as that call returns.
 
 import contextlib
 
-from .. import callbacks as _callbacks
+from .._support import callbacks as _callbacks
 from .. import user_handlers as _handlers
-from .._errors import FatalError
+from .._support.errors import FatalError
 
 _error_callback = None
 _warning_callback = None

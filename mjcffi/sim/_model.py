@@ -3,8 +3,8 @@
 import os
 import warnings
 
-from .._overrides import mj_saveXMLString
-from .._simgetters import SimDataGetters, SimModelGetters
+from ..functions._overrides import mj_saveXMLString
+from .generated.getters import SimDataGetters, SimModelGetters
 from ..data import MjData
 from ..model import MjModel
 

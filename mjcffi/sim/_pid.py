@@ -22,7 +22,7 @@ one, and `<size nuser_actuator>` of at least 1.  The state advances one
 timestep per evaluation of the actuator forces, as in mujoco-py: four times per
 step under RK4, and once more on each `forward()`.
 
-This is a C-callback implementation (mjcffi/_pid.c, installed as MuJoCo's
+This is a C-callback implementation (mjcffi/_c/sim_pid.c, installed as MuJoCo's
 mjcb_act_gain and mjcb_act_bias), not MuJoCo 4's `mujoco.pid` actuator plugin:
 that plugin (kp, ki, kd, imax, slewmax) keeps its integral in the actuator's
 activation and has none of mujoco-py's cascaded controller, derivative
@@ -31,7 +31,7 @@ smoothing, deadband, setpoint EMA, gravity compensation or userdata layout.
 The callbacks are process-global, as in mujoco-py: once set, they compute the
 force of every user-gain or user-bias actuator of every model in the process
 (also those of the official `mujoco` bindings, which share the library), until
-another `mjcb_act_gain` / `mjcb_act_bias` replaces them (`mjcffi.callbacks`).
+another `mjcb_act_gain` / `mjcb_act_bias` replaces them (`mjcffi._support.callbacks`).
 Actuators of other gain and bias types never reach them.  (With biastype user
 but another gaintype, the force is that gain times ctrl plus the controller's,
 as in mujoco-py.)  A model this function
@@ -49,10 +49,10 @@ Deviations from mujoco-py, all where mujoco-py misbehaved:
 
 import numpy as np
 
-from .. import callbacks
-from .._enums import mjtBias, mjtJoint, mjtTrn
-from .._library import ffi, lib
-from .._marshal import model_data
+from .._support import callbacks
+from .._generated.enums import mjtBias, mjtJoint, mjtTrn
+from .._support.library import ffi, lib
+from .._support.marshal import model_data
 
 __all__ = ["set_pid_control"]
 

@@ -6,11 +6,11 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from .. import _errors, _marshal
-from .. import callbacks as _cb
+from .._support import errors as _errors, marshal as _marshal
+from .._support import contract as _contract
 from .. import warning_errors as _warnings
-from .._library import ffi, lib
-from .._overrides import mj_forward, mj_step
+from .._support.library import ffi, lib
+from ..functions._overrides import mj_forward, mj_step
 from ..rollout import Rollout
 from ._sim import MjSim, _count
 
@@ -24,7 +24,7 @@ class MjSimPool:
     did, then runs `nsubsteps` MuJoCo steps of each sim, each step after the
     sim's substep callback (if any), as `MjSim.step()` does; `nsubsteps` is the
     pool's own count (the sims' own counts are not used here).  The sims run on
-    a C thread pool (mjcffi/_rollout.c, the one of mjcffi.rollout) with the GIL
+    a C thread pool (mjcffi/_c/rollout.c, the one of mjcffi.rollout) with the GIL
     released, one sim at a time per thread, so they advance in parallel; the
     results are those of stepping each sim alone.  Where Python must run
     during the steps (a sim with a Python substep callback, a Python mjcb_*
@@ -115,7 +115,7 @@ class MjSimPool:
     def _run(self, job, sims):
         if not sims:
             return
-        if _cb._python or _warnings._enabled or any(s._substep_python is not None for s in sims):
+        if _contract.python_callbacks or _contract.warnings_as_errors or any(s._substep_python is not None for s in sims):
             self._run_python(job, sims)
         else:
             self._run_c(job is mj_forward, sims)
@@ -134,14 +134,14 @@ class MjSimPool:
             ffi.new("mjData*[]", [d for _, d in pairs]),
             ffi.new("mjfGeneric[]", substeps) if any(substeps) else ffi.NULL,
             n, self.nsubsteps, forward, status, message, _MESSAGE_SIZE)
-        if _cb._pending:
-            _cb._raise_stashed()
+        if _contract.pending:
+            _contract.raise_stashed()
         if nfailed:
             failed = np.flatnonzero(np.frombuffer(ffi.buffer(status), np.uint8))
             text = ffi.string(message).decode("utf-8", "replace")
             kind = status[failed[0]] - 1
             error = (_errors.FatalError(text) if kind == lib.MJCFFI_ERROR_FATAL
-                     else _errors._refusal(kind, text))
+                     else _contract.refusal(kind, text))
             error.failed = failed
             raise error
 

@@ -4,8 +4,8 @@ import operator
 
 import numpy as np
 
-from .._constants import mjNGROUP
-from .._enums import mjtGeom
+from .._generated.constants import mjNGROUP
+from .._generated.enums import mjtGeom
 from .._functions import mj_ray, mj_rayHfield, mj_rayMesh, mju_rayGeom
 
 

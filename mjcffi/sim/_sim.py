@@ -8,17 +8,18 @@ from numbers import Number
 
 import numpy as np
 
-from .. import _marshal
-from .. import callbacks as _cb
+from .._support import marshal as _marshal
+from .._support import contract as _contract
 from .. import warning_errors as _warnings
-from .._errors import FatalError
+from .._support.errors import FatalError
 from .._functions import (mj_getState, mj_resetData, mj_setConst, mj_setState,
                           mj_stateSize)
-from .._library import lib
-from .._overrides import mj_forward, mj_step
+from .._support.library import lib
+from ..functions._overrides import mj_forward, mj_step
 from ..model import MjModel
-from ..rendering import _simchecks, _simgl
-from ..rendering._simrender import MjRenderContext, MjRenderContextOffscreen
+from . import _render_checks as _simchecks, _render_gl as _simgl
+from ._base import SimBase
+from ._render import MjRenderContext, MjRenderContextOffscreen
 from . import _ray, _substep
 from ._save import _is_text, _xml_with_key
 from ._callbacks import handle_fatal
@@ -36,7 +37,7 @@ class UddStateError(AssertionError, ValueError):
     mujoco-py raised, and a ValueError, as mjcffi.sim raised before."""
 
 
-class MjSim:
+class MjSim(SimBase):
     """A simulation: `model`, `data` and `nsubsteps` MuJoCo steps per `step()`.
 
     `data` is made for the model (a SimData) unless given.  `udd_callback(sim)`,
@@ -164,7 +165,7 @@ class MjSim:
     def _c_substeps(self, model, data, nstep):
         m, d = self._pointers
         status = _step_substep(m, d, nstep, self._substep_fn)
-        if status or _cb._pending:
+        if status or _contract.pending:
             _marshal.check(status)
 
     def forward(self):
@@ -185,7 +186,7 @@ class MjSim:
 
     def _call_warned(self, function, *args):
         d = self.data
-        if _warnings._enabled or getattr(_local, "ignoring", 0):
+        if _contract.warnings_as_errors or getattr(_local, "ignoring", 0):
             # the process-wide switch already checks, or warnings are off here
             function(self.model, d, *args)
             return
@@ -338,7 +339,7 @@ class MjSim:
         """
         if mode == "window":
             if self._render_context_window is None:
-                from ..viewer._simviewer import MjViewer
+                from .mjviewer import MjViewer
                 MjViewer(self)          # it becomes sim._render_context_window
             self._render_context_window.render()
             return None

@@ -4,7 +4,8 @@ from collections import namedtuple
 
 import numpy as np
 
-from .._enums import mjtState
+from .._generated.enums import mjtState
+from ._base import SimBase
 
 # What an exact replay needs besides mujoco-py's fields: the constraint solver's warm
 # start and MuJoCo's other physics state (delay buffers, plastic and plugin state).
@@ -101,8 +102,7 @@ def _same_udd(a, b):
 
 def _split_flat(array, sim):
     """The parts of a flattened state, as views of `array` (udd scalars as floats)."""
-    from ._sim import MjSim     # _sim imports this module
-    if not isinstance(sim, MjSim):
+    if not isinstance(sim, SimBase):
         raise TypeError(f"sim must be an MjSim, not {type(sim).__name__}")
     array = np.asarray(array, dtype=np.float64)
     nq, nv, na = sim.model.nq, sim.model.nv, sim.model.na

@@ -30,8 +30,8 @@ import threading
 import cffi  # type: ignore[import-untyped]
 import numpy as np
 
-from .._constants import mjVERSION_HEADER
-from .._library import _mujoco_library_path, ffi
+from .._generated.constants import mjVERSION_HEADER
+from .._support.library import _mujoco_library_path, ffi
 
 
 class SubstepCompileError(RuntimeError):

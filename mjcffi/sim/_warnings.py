@@ -4,7 +4,7 @@ import contextlib
 import threading
 
 from .. import warning_errors as _warnings
-from .._enums import mjtWarning
+from .._generated.enums import mjtWarning
 
 
 class MujocoException(_warnings.MjWarningError):

@@ -7,7 +7,7 @@ Here each name comes from the mjcffi module that implements it:
   `ignore_mujoco_warnings`, `MujocoException`;
 - MuJoCo's error and warning hooks: `set_error_callback`, `get_error_callback`,
   `set_warning_callback`, `get_warning_callback`, `wrap_mujoco_warning`;
-- `set_pid_control`, mujoco-py's PID actuators (C callbacks in mjcffi/_pid.c);
+- `set_pid_control`, mujoco-py's PID actuators (C callbacks in mjcffi/_c/sim_pid.c);
 - rendering: `MjRenderContext`, `MjRenderContextOffscreen`,
   `MjRenderContextWindow` (a window drawn from the caller's loop: mjcffi's
   `MjViewerBasic`, which is one), `GlfwContext` (the GLFW GLContext);
@@ -39,9 +39,9 @@ _NAMES = {
     "get_warning_callback": ("mjcffi.sim._callbacks", "get_warning_callback"),
     "wrap_mujoco_warning": ("mjcffi.sim._callbacks", "wrap_mujoco_warning"),
     "set_pid_control": ("mjcffi.sim._pid", "set_pid_control"),
-    "MjRenderContext": ("mjcffi.rendering._simrender", "MjRenderContext"),
-    "MjRenderContextOffscreen": ("mjcffi.rendering._simrender", "MjRenderContextOffscreen"),
-    "MjRenderContextWindow": ("mjcffi.viewer._simviewer", "MjViewerBasic"),
+    "MjRenderContext": ("mjcffi.sim._render", "MjRenderContext"),
+    "MjRenderContextOffscreen": ("mjcffi.sim._render", "MjRenderContextOffscreen"),
+    "MjRenderContextWindow": ("mjcffi.sim.mjviewer", "MjViewerBasic"),
     "GlfwContext": ("mjcffi.glfw", "GLContext"),
     "PyMjModel": ("mjcffi.sim._model", "SimModel"),
     "PyMjData": ("mjcffi.sim._model", "SimData"),

@@ -21,7 +21,7 @@ import functools
 import os
 
 from .. import functions as _mj
-from .._errors import FatalError
+from .._support.errors import FatalError
 from ..structs.mjmodel import MjVFS
 from ._vfs import PyMjVFS, _as_str
 

@@ -7,7 +7,7 @@
 - `attach.py`: attaching a child spec at a frame or site, with its assets;
 - `bind.py`: `m.bind(element)` / `d.bind(element)`, an element's compiled values;
 - `lifetime.py`: what becomes of wrappers and views when MuJoCo frees elements;
-- `kinds.py`: the element kinds (list and lookup names, mjtObj);
+- the element kinds (list and lookup names, mjtObj) are in mjcffi/_support/spec_kinds.py;
 - `assets.py`: `assets` dicts as the VFS MuJoCo reads.
 """
 

@@ -6,7 +6,7 @@ attached with a prefix and a suffix."""
 import contextlib
 import posixpath
 
-from .. import _marshal as _m
+from .._support import marshal as _m
 from ..vfs import MjVfs
 
 

@@ -11,9 +11,10 @@ attached, so that a refused attach leaves both specs as they were.
 
 import warnings
 
-from .. import _marshal as _m
-from .._library import ffi, lib
-from . import kinds
+from .._support import marshal as _m
+from .._support.library import ffi, lib
+from .._support import spec_kinds as kinds
+from ..structs import mjspec as _mjspec
 from .assets import attached_name
 
 DEFAULT_PREFIX = "/"      # the official prefix when none is given
@@ -31,7 +32,7 @@ def attach_point(spec, site, frame):
         point = spec._find(kinds.BY_LOOKUP[kind][2], point)
         if point is None:
             raise ValueError(f"{kind.capitalize()} not found.")
-    expected = kinds.wrapper_class(kinds.BY_LOOKUP[kind][2])
+    expected = wrapper_class(kinds.BY_LOOKUP[kind][2])
     if not isinstance(point, expected):
         raise TypeError(f"{kind} must be an {expected.__name__} or its name, "
                         f"not {type(point).__name__}")
@@ -86,3 +87,8 @@ def rename_files(child, prefix, suffix):
                 lib.mjs_setString(file, _m.text(attached_name(name, prefix, suffix), "file"))
             element = lib.mjcffi_guard_mjs_nextElement(child._ptr, element)
         _m.check_error()
+
+
+def wrapper_class(type_):
+    """The generated struct class of an element kind (MjsBody, ...)."""
+    return getattr(_mjspec, "Mjs" + kinds.BY_TYPE[int(type_)][3])

@@ -24,11 +24,11 @@ import weakref
 
 import numpy as np
 
-from .. import _marshal
-from .._enums import mjtMeshBuiltin, mjtObj, mjtWrap
-from .._library import ffi, lib
-from .._views import int_argument
-from ..structs import _elements
+from .._support import marshal as _marshal
+from .._generated.enums import mjtMeshBuiltin, mjtObj, mjtWrap
+from .._support.library import ffi, lib
+from .._support.views import int_argument
+from .._support import elements as _elements
 from ..structs import mjspec as _generated
 from . import lifetime
 

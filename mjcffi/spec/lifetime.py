@@ -20,11 +20,11 @@ that they still read as they were, as official.
 
 import weakref
 
-from .. import _marshal as _m
-from .._library import ffi, lib
-from ..structs import _elements
+from .._support import marshal as _m
+from .._support.library import ffi, lib
+from .._support import elements as _elements
 from ..structs.mjspec import MjsDefault
-from . import kinds
+from .._support import spec_kinds as kinds
 
 
 def address(pointer):

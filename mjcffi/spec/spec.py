@@ -13,18 +13,20 @@ import warnings
 
 import numpy as np
 
-from .. import _marshal as _m
-from .._enums import mjtCTimer
-from .._errors import FatalError
-from .._library import ffi, lib
-from .._overrides import _model, mj_saveXMLString
-from ..plugins import load_bundled
-from .._views import Nested, view
-from ..structs import _elements
+from .._support import marshal as _m
+from .._generated.enums import mjtCTimer
+from .._support.errors import FatalError
+from .._support.library import ffi, lib
+from .._support.loading import save_xml_string
+from ..model import MjModel
+from .._support.plugins import load_bundled
+from .._support.views import Nested, view
+from .._support import elements as _elements
 from ..structs import mjspec as _generated
 from ..structs import mjmodel as _visualize
 from . import attach as _attach
-from . import kinds, lifetime
+from . import lifetime
+from .._support import spec_kinds as kinds
 from .assets import check_assets, relative_names, vfs_pointer
 
 
@@ -371,7 +373,7 @@ class MjSpec(_generated.MjSpec):
 
     @staticmethod
     def _wrap_compiled(c_model, c_data):
-        from ..callbacks import _track
+        from .._support.callbacks import _track
         from ..data import MjData
         model = _model(c_model)
         data = MjData.__new__(MjData)
@@ -439,7 +441,7 @@ class MjSpec(_generated.MjSpec):
         """The spec as MJCF text.  It compiles the spec first, as the official does
         (see compile(): fusestatic and discardvisual change the spec)."""
         self.compile()
-        return mj_saveXMLString(self)
+        return save_xml_string(self._ptr)
 
     def to_file(self, filename):
         """Write to_xml() to `filename`."""
@@ -593,7 +595,7 @@ class MjSpec(_generated.MjSpec):
         """The typed struct pointer (mjsBody *, ...) of `element`, which must be an
         element of this spec of mjtObj `type_`."""
         cls = _generated.MjsDefault if int(type_) == int(kinds.mjtObj.mjOBJ_DEFAULT) \
-            else kinds.wrapper_class(type_)
+            else _attach.wrapper_class(type_)
         if not isinstance(element, cls):
             raise TypeError(f"{name} must be an {cls.__name__}, not {type(element).__name__}")
         self._element_pointer(element, name)
@@ -674,3 +676,8 @@ def _listing(type_, plural):
 for _plural, _kind, _type, _ in kinds.KINDS:
     setattr(MjSpec, _kind, _lookup(int(_type), _kind))
     setattr(MjSpec, _plural, _listing(int(_type), _plural))
+
+
+def _model(pointer):
+    """An MjModel owning `pointer`, a new mjModel."""
+    return MjModel._from_root(ffi.gc(pointer, lib.mj_deleteModel))

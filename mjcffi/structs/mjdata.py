@@ -3,8 +3,8 @@
 
 from numpy import ndarray
 
-from .._views import (Array, Bound, DynamicArray, FixedArray, FixedRecords, Records, Struct,
-                      ValueStruct, eager, pointer, scalar, struct_type)
+from .._support.views import (Array, Bound, DynamicArray, FixedArray, FixedRecords, Records, Struct,
+                              ValueStruct, eager, pointer, scalar, struct_type)
 
 __all__ = ['MjPreContact', 'MjContact', 'MjWarningStat', 'MjTimerStat', 'MjSolverStat']
 

@@ -3,12 +3,12 @@
 
 from typing import Union
 
-from .._views import FixedArray, Nested, Struct, scalar, struct_type
-from ._element_adders import adder, frame_adder
-from ._element_fields import (char_array, element_name, element_setattr, enum_field, member_ref,
-                              string_field)
-from ._element_vectors import vector_field
-from ._elements import register
+from .._support.views import FixedArray, Nested, Struct, scalar, struct_type
+from .._support.element_adders import adder, frame_adder
+from .._support.element_fields import (char_array, element_name, element_setattr, enum_field,
+                                       member_ref, string_field)
+from .._support.element_vectors import vector_field
+from .._support.elements import register
 from .mjmodel import MjLROpt, MjOption, MjStatistic, MjVisual
 
 __all__ = ['MjsElement', 'MjsCompiler', 'MjsAuthored', 'MjSpec', 'MjsOrientation', 'MjsPlugin', 'MjsBody', 'MjsFrame', 'MjsJoint', 'MjsGeom', 'MjsSite', 'MjsCamera', 'MjsLight', 'MjsFlex', 'MjsMesh', 'MjsHField', 'MjsSkin', 'MjsTexture', 'MjsMaterial', 'MjsPair', 'MjsExclude', 'MjsEquality', 'MjsTendon', 'MjsWrap', 'MjsActuator', 'MjsSensor', 'MjsNumeric', 'MjsText', 'MjsTuple', 'MjsKey', 'MjsDefault', 'MjStruct']

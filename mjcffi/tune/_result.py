@@ -48,7 +48,7 @@ class TuneResult:
     errors, speed and status.  report(): a markdown table (and a plot, given a path).
     """
 
-    def __init__(self, model, original, setting, original_setting, settings, speedup, error,
+    def __init__(self, *, model, original, setting, original_setting, settings, speedup, error,
                  candidates, budget_name, objective, control_period, wall_time, evaluations,
                  disable_set=0):
         self.model = model

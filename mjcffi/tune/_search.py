@@ -8,7 +8,7 @@ when it is measured faster, or for `objective='accurate'` more accurate at no ex
 
 import dataclasses
 
-from .._enums import mjtCone, mjtDisableBit, mjtIntegrator, mjtJacobian, mjtSolver
+from .._generated.enums import mjtCone, mjtDisableBit, mjtIntegrator, mjtJacobian, mjtSolver
 from ..evaluation import measures
 from ..evaluation.periods import period_error, setting_model
 from ..evaluation.settings import INTEGRATOR_NAMES, value_name

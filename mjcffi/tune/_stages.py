@@ -14,7 +14,7 @@ import dataclasses
 
 import numpy as np
 
-from .._enums import mjtDisableBit
+from .._generated.enums import mjtDisableBit
 
 # mjMINVAL: mj_fluid skips bodies lighter than this.
 _MINVAL = 1e-15

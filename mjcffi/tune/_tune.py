@@ -1,6 +1,7 @@
 """tune(): the cheapest settings of a model within an error budget, verified on held-out states."""
 
 import collections.abc
+import dataclasses
 import math
 import numbers
 import os
@@ -8,10 +9,10 @@ import time
 
 import numpy as np
 
-from .. import _progress
+from .._support import progress as _progress
 from .. import functions as mjf
 from .. import rollout as _rollout
-from .._enums import mjtDisableBit
+from .._generated.enums import mjtDisableBit
 from ..evaluation import measures
 from ..evaluation.periods import (end_states, period_error, qpos_of, setting_model,
                                   steps_per_period)
@@ -101,10 +102,28 @@ def tune(model, budget, *, control_period=None, control=None, horizon=None, stat
     initial = _split_states(m, states, rng)
     controls = _split_controls(m, control, [len(s) for s in initial], nperiod, rng)
 
+    run = _Run(m=m, budget=budget, limits=limits, objective=objective, period=period,
+               nstep0=nstep0, nthread=nthread, progress=progress, started=started, ray=ray)
     # candidates may diverge: that is measured, not raised, even with warnings as errors
     with ignore_warnings():
-        return _tune(m, budget, limits, objective, period, nstep0, nperiod, nthread, initial,
-                     controls, progress, started, ray)
+        return _tune(run, initial, controls)
+
+
+@dataclasses.dataclass
+class _Run:
+    """What one tuning run goes by, checked by `tune`: the model, the budget and its
+    per-kind limits, the objective, the control period (seconds, and timesteps of the
+    model's own), the threads, the progress bar's switch, the start time, Ray or not."""
+    m: object
+    budget: object
+    limits: dict
+    objective: str
+    period: float
+    nstep0: int
+    nthread: int
+    progress: bool
+    started: float
+    ray: bool
 
 
 def _pool(nthread, ray):
@@ -115,16 +134,15 @@ def _pool(nthread, ray):
     return _rollout.Rollout(nthread=nthread if nthread > 1 else 0)
 
 
-def _tune(m, budget, limits, objective, period, nstep0, nperiod, nthread, initial, controls,
-          progress, started, ray):
+def _tune(run, initial, controls):
+    m = run.m
     stages = unneeded_stages(m)
     base_disable = int(m.opt.disableflags)
     for s in stages:
         base_disable |= s.flag
-    original = Setting.of(m)
     sets = []
     for init, u in zip(initial, controls):
-        samples, diverged = sample(m, init, u, nstep0, NSAMPLE)
+        samples, diverged = sample(m, init, u, run.nstep0, NSAMPLE)
         if diverged:
             raise ValueError(f"the model diverges at its own settings: MuJoCo warned of a bad "
                              f"qpos, qvel or qacc in {len(diverged)} of {len(init)} "
@@ -132,17 +150,17 @@ def _tune(m, budget, limits, objective, period, nstep0, nperiod, nthread, initia
         sets.append(samples)
     search_set, held_set = sets
 
-    bar = _progress.bar(None, "tune", "eval", progress, leave=False)
+    bar = _progress.bar(None, "tune", "eval", run.progress, leave=False)
     try:
-        with _pool(nthread, ray) as pool:
-            return _run(m, original, base_disable, stages, search_set, held_set, budget, limits,
-                        objective, pool, nthread, nstep0, period, bar, started)
+        with _pool(run.nthread, run.ray) as pool:
+            return _run(run, stages, base_disable, search_set, held_set, pool, bar)
     finally:
         bar.close()
 
 
-def _run(m, original, base_disable, stages, search_set, held_set, budget, limits, objective,
-         pool, nthread, nstep0, period, bar, started):
+def _run(run, stages, base_disable, search_set, held_set, pool, bar):
+    m, nstep0, nthread, budget = run.m, run.nstep0, run.nthread, run.budget
+    original = Setting.of(m)
     tight = not base_disable & mjtDisableBit.mjDSBL_CONSTRAINT
     ref = setting_model(m, reference_setting(m, tight), base_disable)
     references = []
@@ -154,7 +172,7 @@ def _run(m, original, base_disable, stages, search_set, held_set, budget, limits
                              "enough to be tuned")
         references.append(qpos_of(m, end))
     search = Search(m, original, base_disable, search_set, references[0], None, pool,
-                    nthread, nstep0, period, bar)
+                    nthread, nstep0, run.period, bar)
     own_error = search.error(original, nstep0)
     own_held = period_error(pool, m, original, base_disable, held_set, references[1], nstep0,
                             nthread)
@@ -162,15 +180,15 @@ def _run(m, original, base_disable, stages, search_set, held_set, budget, limits
         search.budget = {k: v * EQUAL for k, v in own_error.items()}
         held_limits = {k: v * EQUAL for k, v in own_held.items()}
     else:
-        held_limits = _limits_for(limits, own_error)
+        held_limits = _limits_for(run.limits, own_error)
         search.budget = {k: v * SEARCH_MARGIN for k, v in held_limits.items()}
 
     own = Candidate(original, nstep0, own_error, 1.0, measured=True)
-    candidates = _search(search, own, objective, budget)
+    candidates = _search(search, own, run.objective, budget)
     check = _Verification(m, base_disable, held_set, references[1], held_limits, own_held,
                           nstep0, strict=budget == "original")
-    chosen = _first_verified(search, check, _ranked(candidates, own, objective, search.budget),
-                             own, objective)
+    chosen = _first_verified(search, check, _ranked(candidates, own, run.objective,
+                                                    search.budget), own, run.objective)
     if chosen is None:
         raise _no_setting(candidates, search.budget, held_limits, original)
 
@@ -179,10 +197,13 @@ def _run(m, original, base_disable, stages, search_set, held_set, budget, limits
     chosen.speedup, chosen.measured = speedup, True
     error = TuneError(chosen.held_out, own_held, held_limits, chosen.stability,
                       check.own_stability)
-    return TuneResult(tuned, m, chosen.setting, original,
-                      _changes(chosen, original, stages), speedup, error, candidates,
-                      str(budget), objective, period, time.perf_counter() - started,
-                      search.evaluations, base_disable & ~int(m.opt.disableflags))
+    return TuneResult(
+        model=tuned, original=m, setting=chosen.setting, original_setting=original,
+        settings=_changes(chosen, original, stages), speedup=speedup, error=error,
+        candidates=candidates, budget_name=str(budget), objective=run.objective,
+        control_period=run.period, wall_time=time.perf_counter() - run.started,
+        evaluations=search.evaluations,
+        disable_set=base_disable & ~int(m.opt.disableflags))
 
 
 class _Verification:

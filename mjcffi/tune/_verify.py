@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from .. import functions as mjf
-from .._enums import mjtDisableBit, mjtEnableBit
+from .._generated.enums import mjtDisableBit, mjtEnableBit
 from ..data import MjData
 from ..evaluation.periods import setting_model
 from ..evaluation.states import DIVERGED, FULLPHYSICS

@@ -13,7 +13,7 @@ import time
 
 import glfw
 
-from .._enums import mjtButton, mjtEvent
+from .._generated.enums import mjtButton, mjtEvent
 from ..structs import MjuiState
 
 DOUBLECLICK = 0.3            # seconds between two presses of a double-click

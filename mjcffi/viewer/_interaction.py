@@ -14,7 +14,7 @@ Mouse motion is relative to the window height, as in MuJoCo's samples.
 
 import numpy as np
 
-from .._enums import mjtCamera, mjtMouse, mjtPertBit
+from .._generated.enums import mjtCamera, mjtMouse, mjtPertBit
 from .._functions import mjv_initPerturb, mjv_moveCamera, mjv_movePerturb, mjv_select
 
 SCROLL_ZOOM = -0.05          # mjv_moveCamera's zoom per scroll notch, as MuJoCo's samples

@@ -17,7 +17,7 @@ import time
 import glfw
 
 from .._functions import mj_resetData, mjv_applyPerturbForce, mjv_applyPerturbPose
-from .._overrides import mj_forward, mj_step
+from ..functions._overrides import mj_forward, mj_step
 from ..data import MjData
 from ..model import MjModel
 from ._viewer import FRAME_INTERVAL, Viewer

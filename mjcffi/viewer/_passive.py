@@ -25,11 +25,11 @@ import weakref
 
 import numpy as np
 
-from .._enums import mjtState
+from .._generated.enums import mjtState
 from .._functions import (mj_copyData, mj_copyState, mjr_uploadHField, mjr_uploadMesh,
                           mjr_uploadTexture, mjv_applyPerturbForce, mjv_applyPerturbPose)
-from .._overrides import mj_copyModel, mj_forward
-from .._library import ffi
+from ..functions._overrides import mj_copyModel, mj_forward
+from .._support.library import ffi
 from ..data import MjData
 from ..model import MjModel
 from ..structs import MjvScene

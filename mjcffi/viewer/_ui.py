@@ -6,7 +6,7 @@ of an MjvOption; the right panel a slider per hinge and slide joint (its qpos) a
 per actuator (its ctrl, within ctrlrange).
 
 The UI edits only its own buffers (NumPy arrays kept by the MjUI, see
-mjcffi/_mjui.py), never the model's or data's memory: `sync_from` copies the
+mjcffi/functions/_mjui.py), never the model's or data's memory: `sync_from` copies the
 model's and data's values into them, `sync_to` copies back what the user changed
 through the UI since the last sync_to, and nothing else (the simulation keeps
 moving the joints and a controller may set ctrl; only an edit overrides them).
@@ -21,10 +21,10 @@ MjrContext was made in to be current.
 
 import numpy as np
 
-from .. import _mjui
-from .._constants import mjMAXUIITEM, mjMAXUINAME
-from .._enums import mjtButton, mjtEvent, mjtIntegrator, mjtItem, mjtJoint, mjtObj
-from .._library import ffi
+from ..functions import _mjui
+from .._generated.constants import mjMAXUIITEM, mjMAXUINAME
+from .._generated.enums import mjtButton, mjtEvent, mjtIntegrator, mjtItem, mjtJoint, mjtObj
+from .._support.library import ffi
 from .. import mjDISABLESTRING, mjVISSTRING
 from .._functions import (mj_id2name, mjr_addAux, mjr_restoreBuffer, mjui_themeColor,
                           mjui_themeSpacing)

@@ -19,11 +19,11 @@ import time
 
 import numpy as np
 
-from .._enums import mjtCatBit, mjtFont, mjtFontScale, mjtFramebuffer, mjtGridPos
+from .._generated.enums import mjtCatBit, mjtFont, mjtFontScale, mjtFramebuffer, mjtGridPos
 from .._functions import (mjr_overlay, mjr_render, mjr_setBuffer, mjv_defaultFreeCamera,
                           mjv_updateScene)
-from .._overrides import mjr_readPixels
-from .._library import ffi
+from ..functions._overrides import mjr_readPixels
+from .._support.library import ffi
 from ..structs import MjrContext, MjrRect, MjvCamera, MjvOption, MjvPerturb, MjvScene
 from . import _interaction, _overlay, _panels
 from ._input import WindowState

@@ -18,7 +18,7 @@ except ImportError as _error:
     raise ImportError("the viewer needs the glfw package: pip install 'mjcffi[glfw]' "
                       f"(or pip install glfw) ({_error})") from _error
 
-from .. import _mjr
+from .._support import mjr as _mjr
 
 
 def report(what):

@@ -6,7 +6,7 @@ other test files can call.  (benchmarks/ holds speed measurements only.)
 
 What it calls (the key space; `python -m tests.fuzz --list` prints it):
 - every function of mjcffi.functions.NAMES (functions.py): the metadata of
-  mjcffi/_funcinfo.py (C types, const, extents, Nullable), the public
+  mjcffi/_generated/funcinfo.py (C types, const, extents, Nullable), the public
   wrappers' signatures, and codegen/functions.py's tables (SHAPES, SIZED,
   UNSUPPORTED) build one valid call; each variation then changes one argument
   to a bad value of its kind (values.py): None, wrong types, ints at the C

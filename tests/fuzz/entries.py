@@ -25,7 +25,7 @@ import pickle
 import numpy as np
 
 import mjcffi
-from mjcffi._structinfo import STRUCTS
+from mjcffi._generated.structinfo import STRUCTS
 
 from . import guard
 from .env import XML, class_name
@@ -231,7 +231,7 @@ def _ctor_targets():
 # ---------------------------------------------------------------- named
 
 def _named_targets():
-    from mjcffi import named
+    from mjcffi._support import named
     out = []
     for category in named.CATEGORIES:
         for owner in ("model", "data"):

@@ -318,7 +318,7 @@ class Env:
 
 
 def _opaque_fields():
-    from mjcffi._structinfo import STRUCTS
+    from mjcffi._generated.structinfo import STRUCTS
     out = {}
     for owner in _SPEC_MAKERS:
         for field in STRUCTS.get(owner, ()):

@@ -1,6 +1,6 @@
 """Targets for every public MuJoCo function, built from the function metadata.
 
-mjcffi/_funcinfo.py gives each C argument's type, const-ness, fixed extents and
+mjcffi/_generated/funcinfo.py gives each C argument's type, const-ness, fixed extents and
 Nullable note; the public wrapper's signature (inspect) gives the Python
 parameters; codegen/functions.py's tables give the extents that the
 declaration does not (SHAPES, SIZED), the ids MuJoCo follows unchecked (IDS),
@@ -17,10 +17,10 @@ import re
 import numpy as np
 
 from codegen import functions as tables
-from mjcffi import _constants, _enums
+from mjcffi._generated import constants as _constants, enums as _enums
 from mjcffi import functions as F
-from mjcffi._funcinfo import FUNCTIONS
-from mjcffi._structinfo import STRUCTS
+from mjcffi._generated.funcinfo import FUNCTIONS
+from mjcffi._generated.structinfo import STRUCTS
 
 from . import guard
 from .target import Param, Target

@@ -106,7 +106,7 @@ def camera_frame_all_null():
 
 
 def _count_fields(cname):
-    from mjcffi._structinfo import STRUCTS
+    from mjcffi._generated.structinfo import STRUCTS
     return [f.name for f in STRUCTS[cname]
             if f.kind == "scalar" and f.elem in ("int", "mjtSize")
             and (f.name.startswith("n") or f.name.startswith("max"))]

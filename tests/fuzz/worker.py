@@ -29,7 +29,7 @@ def _clean(text, limit=300):
 def _reset_globals():
     """Undo what a call may have left process-wide: callbacks, handlers, warnings as errors."""
     import mjcffi
-    from mjcffi import callbacks
+    from mjcffi._support import callbacks
     for name in ("passive", "control", "contactfilter", "sensor", "time", "act_dyn",
                  "act_gain", "act_bias"):
         try:

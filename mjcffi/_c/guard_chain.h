@@ -1,0 +1,40 @@
+/* The chain of guards that mjcffi/_c/guard.c keeps per thread, shared with the
+   generated mjcffi/_c/generated/guards.c.  C only: cffi's cdef never reads this file (it
+   cannot parse jmp_buf).  The guards on a thread form a chain, innermost
+   first; enter arms one, leave disarms it, with caught=1 after a longjmp. */
+
+#ifndef MJCFFI_GUARD_CHAIN_H_
+#define MJCFFI_GUARD_CHAIN_H_
+
+#include <setjmp.h>
+
+#include <mujoco/mujoco.h>
+
+typedef struct mjcffi_guard_ {
+  jmp_buf env;                  /* where a caught mju_error lands */
+  struct mjcffi_guard_* outer;  /* enclosing guard on this thread, or NULL */
+  mjfLogHandler handler;        /* thread-local log handler to restore on exit */
+} mjcffi_guard;
+
+void mjcffi_guard_enter(mjcffi_guard* guard);
+
+/* Hold d for a call that writes it (d may be NULL): 0, or 1 with the error pending
+   (MJCFFI_ERROR_BUSY: another thread holds it; MJCFFI_ERROR_REENTRY: this thread
+   does, and `restarts`, a call that resets the arena, may not nest).  func names
+   the call in the message.  Each 0 is matched by one mjcffi_data_leave. */
+int mjcffi_data_enter(const mjData* d, int restarts, const char* func);
+void mjcffi_data_leave(const mjData* d);
+
+/* mjr_makeContext's guard: 0, or 1 with a FatalError pending when no OpenGL library is
+   loaded or an earlier call failed; mjcffi_render_failed records a failure. */
+int mjcffi_render_enter(const char* func);
+void mjcffi_render_failed(void);
+void mjcffi_guard_leave(mjcffi_guard* guard, int caught);
+
+/* Make `text` this thread's pending error, of MJCFFI_ERROR_* `kind`, as a caught
+   mju_error is (for a refusal before MuJoCo runs); returns 1.  mjcffi_last_message:
+   the text of the last error recorded on this thread, taken or not. */
+int mjcffi_record_error(int kind, const char* text);
+const char* mjcffi_last_message(void);
+
+#endif  /* MJCFFI_GUARD_CHAIN_H_ */
