@@ -259,3 +259,36 @@ def test_every_subpackage_is_in_the_wheel():
              for p in PACKAGE.rglob("__init__.py")} | {"mjcffi"}
     found = {name.rstrip(".") for name in found}
     assert found == listed
+
+
+# The public import paths: the official ones (also those real code names, such as
+# mujoco._enums), mjcffi's own subsystems, and mujoco-py's under mjcffi.sim.  A
+# reorganisation of the tree keeps every one of them.
+PUBLIC_PATHS = (
+    "mjcffi", "mjcffi.model", "mjcffi.data", "mjcffi.functions", "mjcffi.vfs",
+    "mjcffi.log_config", "mjcffi.user_handlers", "mjcffi.warning_errors", "mjcffi.rollout",
+    "mjcffi.batch", "mjcffi.scenes", "mjcffi.renderer", "mjcffi.gl_context", "mjcffi.accuracy",
+    "mjcffi.minimize", "mjcffi.spec", "mjcffi.rendering", "mjcffi.viewer", "mjcffi.tune",
+    "mjcffi.evaluation", "mjcffi.distributed", "mjcffi._functions", "mjcffi._enums",
+    "mjcffi._constants", "mjcffi.structs", "mjcffi.structs.mjmodel", "mjcffi.structs.mjdata",
+    "mjcffi.structs.mjspec", "mjcffi.structs.mjvisualize", "mjcffi.structs.mjrender",
+    "mjcffi.structs.mjui", "mjcffi.structs.mjplugin", "mjcffi.structs.mjtype",
+    "mjcffi.structs.mjbatch", "mjcffi.sim", "mjcffi.sim.const", "mjcffi.sim.functions",
+    "mjcffi.sim.cymj", "mjcffi.sim.modder", "mjcffi.sim.generated",
+    "mjcffi.sim.generated.const", "mjcffi.sim.mjviewer", "mjcffi.sim.mjrenderpool")
+
+
+@pytest.mark.parametrize("path", PUBLIC_PATHS)
+def test_every_public_path_imports(path):
+    import importlib
+    assert importlib.import_module(path).__name__ == path
+
+
+@pytest.mark.parametrize("path", ("mjcffi.egl", "mjcffi.osmesa", "mjcffi.glfw"))
+def test_the_gl_backend_paths_import_where_their_library_is(path):
+    import importlib
+    try:
+        module = importlib.import_module(path)
+    except ImportError as error:          # a backend's system library (or glfw) is absent
+        pytest.skip(f"{path}: {error}")
+    assert hasattr(module, "GLContext")

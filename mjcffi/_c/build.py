@@ -28,7 +28,7 @@ def mujoco_package_dir():
 CDEF = ("generated/cdef.h", "guard.h", "generated/guards.h", "gl.h", "arena.h", "unpickle.h",
         "timer.h", "rollout.h", "batchfuncs.h", "sim_pid.h", "callbacks.h")
 # The C files compiled into the module: one per concern (see each file's first lines).
-SOURCES = ("guard.c", "claims.c", "gl.c", "arena.c", "unpickle.c", "timer.c",
+SOURCES = ("guard.c", "step.c", "claims.c", "gl.c", "arena.c", "unpickle.c", "timer.c",
            "generated/guards.c", "rollout.c", "batchfuncs.c", "sim_pid.c")
 # The headers the module's own source includes (callbacks.h is extern "Python": cdef only).
 INCLUDED = ("guard.h", "guards.h", "gl.h", "arena.h", "unpickle.h", "timer.h", "rollout.h",

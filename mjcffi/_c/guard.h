@@ -1,4 +1,4 @@
-/* The guard chain (guard.c): the caught error's message and kind, mj_step's loops.
+/* The guard chain (guard.c): the caught error's message and kind; mj_step's loops (step.c).
    Read by mjcffi/_c/build.py into the cffi cdef, and included by the C files.
    Hand-written. */
 
