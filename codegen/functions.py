@@ -545,8 +545,20 @@ RETURNS = {
     "mj_readSensor": "fill(result, ret, m.sensor_dim[id])",
     "mjs_getTimer": "copy_array(ret, mjNCTIMER, NUM)",
     "mj_copyData": "None",                     # returns dest, as the official bindings: None
-    "mj_stackAllocNum": "ret",                 # raw pointers into the mjData stack
-    "mj_stackAllocInt": "ret",
+    # views of exactly the size asked for, in d's arena (mjcffi/_support/stack.py)
+    "mj_stackAllocNum": "stack_array(@d, ret, size, NUM)",
+    "mj_stackAllocInt": "stack_array(@d, ret, size, INT)",
+    "mj_stackAllocByte": "stack_array(@d, ret, bytes, BYTE)",
+}
+
+# Calls that may release arrays of the mjData stack (mjcffi/_support/stack.py): they
+# pop a frame, empty the stack (the resets, a copy into the data), or reset a bad state
+# (mj_checkPos/Vel/Acc, and the steps that call them).  Function -> its mjData argument.
+RELEASES = {
+    "mj_freeStack": "d", "mj_resetData": "d", "mj_resetDataDebug": "d",
+    "mj_resetDataKeyframe": "d", "mj_copyData": "dest", "mjv_copyData": "dest",
+    "mj_step1": "d", "mj_step2": "d", "mj_checkPos": "d", "mj_checkVel": "d",
+    "mj_checkAcc": "d",
 }
 
 # New structs that the caller owns: func -> the C function that frees them.
@@ -685,7 +697,8 @@ UNSUPPORTED = {
 
 # Helpers of mjcffi/_support/marshal.py that SHAPES, CHECKS and RETURNS may call.
 _HELPERS = ("state_size", "band_size", "csr", "below", "require", "object_id", "index",
-            "copy_array", "fill", "camera", "model_of", "NULL", "NUM", "count")
+            "copy_array", "fill", "camera", "model_of", "stack_array", "NULL", "NUM", "INT",
+            "BYTE", "count")
 
 # Helpers of mjcffi/_support/mjr.py (the renderer's checks) that CHECKS may call.
 _RENDER_HELPERS = ("render_scene", "figure_fields", "ascii_text", "overlay_text", "same_model",
@@ -926,7 +939,10 @@ def _annotation(a, typedefs):
 _RETURN_TYPES = {"mj_readCtrl": "numpy.typing.NDArray[numpy.float64]",
                  "mj_readSensor": "numpy.typing.NDArray[numpy.float64]",
                  "mjs_getTimer": "numpy.typing.NDArray[numpy.float64]",
-                 "mj_copyData": "None"}
+                 "mj_copyData": "None",
+                 "mj_stackAllocNum": "numpy.typing.NDArray[numpy.float64]",
+                 "mj_stackAllocInt": "numpy.typing.NDArray[numpy.int32]",
+                 "mj_stackAllocByte": "numpy.typing.NDArray[numpy.uint8]"}
 
 _NUMPY = {"mjtNum": "float64", "double": "float64", "float": "float32", "int": "int32",
           "mjtByte": "uint8", "unsigned char": "uint8", "mjtSize": "int64", "mjtBool": "bool_"}
@@ -1422,12 +1438,15 @@ class _Function:
     def ending(self):
         """The lines after `status = ...` or `ret = ...`: the error checks, the result."""
         ret = self.func.restype
+        # first, as an error may leave the stack released too
+        lines = ["if _m.stack.live:", f"    _m.stack.sweep({RELEASES[self.name]})"] \
+            if self.name in RELEASES else []
         if ret.decl == "void":
-            return ["if status or _contract.pending:", "    _m.check(status)"]
+            return lines + ["if status or _contract.pending:", "    _m.check(status)"]
         if ret.pointer == 0 and ret.base in self.described:
-            lines = ["_m.check_error()"]          # a struct returned by value: no zero test
+            lines.append("_m.check_error()")      # a struct returned by value: no zero test
         else:                                     # a guard returns zero on an error
-            lines = ["if not ret or _contract.pending:", "    _m.check_error()"]
+            lines += ["if not ret or _contract.pending:", "    _m.check_error()"]
         if self.name in ERRORS:
             test, exc, returns = ERRORS[self.name]
             exc = "_m.FatalError" if exc == "FatalError" else exc
@@ -1448,9 +1467,11 @@ class _Function:
             return "_m.string(ret)"
         if ret.base in self.described:
             cls = f"_structs.{class_name(ret.base)}"
+            owner = next((a.py for a in self.args if a.kind == "struct"), "None")
+            if ret.decl.startswith("const "):     # MuJoCo's own (a global plugin table)
+                return f"_m.wrap_const({cls}, ret, {owner})"
             if self.name in OWNED:
                 return f"_m.own({cls}, ret, _lib.{OWNED[self.name]})"
-            owner = next((a.py for a in self.args if a.kind == "struct"), "None")
             return f"_m.wrap({cls}, ret, {owner})"
         if ret.pointer == 1 and _is_handle(ret.base, self.typedefs):
             owner = next((a.py for a in self.args if a.kind == "struct"), "None")
@@ -1499,7 +1520,7 @@ def _unsupported(func, note, reason, described, typedefs):
 def generate(decls, notes, described, header_texts):
     """{"mjcffi/_functions.py": text} for every function of the parsed headers."""
     constants = _defines(header_texts, decls)
-    for table in (SHAPES, KEEP, BOUNDS, CHECKS, ERRORS, RETURNS, OWNED, RENAMES, OMIT,
+    for table in (SHAPES, KEEP, BOUNDS, CHECKS, ERRORS, RETURNS, RELEASES, OWNED, RENAMES, OMIT,
                   NULLABLE, NOT_NULLABLE, OVERRIDES, UNSUPPORTED, MESSAGES, SIZED, BIND,
                   SCENES, {f for f, _ in ID_EXCEPTIONS}, {f for f, _ in ENUM_EXCEPTIONS},
                   {f for f, _ in ENUM_INTS}, NO_OPENGL):

@@ -742,13 +742,15 @@ Save spec to XML file; return 0 on success, -1 otherwise.
     return _mj_saveXML(s, filename)
 
 
-def _bind_mj_step1(c_m, c_d):
+def _bind_mj_step1(c_m, d, c_d):
     """The guarded call of mj_step1 with these converted arguments, ready to make
     (mj_step1.prepare)."""
     guard = _lib.mjcffi_guard_mj_step1
 
     def call():
         status = guard(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
     return call
@@ -761,8 +763,10 @@ def _mj_step1(m, d, *, prepare=False):
     and returns the guarded call, ready to make."""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     if prepare:
-        return _bind_mj_step1(c_m, c_d)
+        return _bind_mj_step1(c_m, d, c_d)
     status = _lib.mjcffi_guard_mj_step1(c_m, c_d)
+    if _m.stack.live:
+        _m.stack.sweep(d)
     if status or _contract.pending:
         _m.check(status)
 
@@ -781,19 +785,23 @@ Advance simulation in two steps: before external force and control is set by use
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_step1(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
         return
     return _mj_step1(m, d)
 
 
-def _bind_mj_step2(c_m, c_d):
+def _bind_mj_step2(c_m, d, c_d):
     """The guarded call of mj_step2 with these converted arguments, ready to make
     (mj_step2.prepare)."""
     guard = _lib.mjcffi_guard_mj_step2
 
     def call():
         status = guard(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
     return call
@@ -806,8 +814,10 @@ def _mj_step2(m, d, *, prepare=False):
     and returns the guarded call, ready to make."""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     if prepare:
-        return _bind_mj_step2(c_m, c_d)
+        return _bind_mj_step2(c_m, d, c_d)
     status = _lib.mjcffi_guard_mj_step2(c_m, c_d)
+    if _m.stack.live:
+        _m.stack.sweep(d)
     if status or _contract.pending:
         _m.check(status)
 
@@ -826,6 +836,8 @@ Advance simulation in two steps: after external force and control is set by user
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_step2(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
         return
@@ -1254,13 +1266,15 @@ Return size of buffer needed to hold model.
     return _mj_sizeModel(m)
 
 
-def _bind_mj_copyData(c_dest, c_m, c_src):
+def _bind_mj_copyData(dest, c_dest, c_m, c_src):
     """The guarded call of mj_copyData with these converted arguments, ready to make
     (mj_copyData.prepare)."""
     guard = _lib.mjcffi_guard_mj_copyData
 
     def call():
         ret = guard(c_dest, c_m, c_src)
+        if _m.stack.live:
+            _m.stack.sweep(dest)
         if not ret or _contract.pending:
             _m.check_error()
         return None
@@ -1275,8 +1289,10 @@ def _mj_copyData(dest, m, src, *, prepare=False):
     c_m, c_dest = _m.model_data(m, dest, "m", "dest")
     c_src = _m.data_of(m, src, "m", "src")
     if prepare:
-        return _bind_mj_copyData(c_dest, c_m, c_src)
+        return _bind_mj_copyData(dest, c_dest, c_m, c_src)
     ret = _lib.mjcffi_guard_mj_copyData(c_dest, c_m, c_src)
+    if _m.stack.live:
+        _m.stack.sweep(dest)
     if not ret or _contract.pending:
         _m.check_error()
     return None
@@ -1299,6 +1315,8 @@ m is only required to contain the size fields from MJMODEL_INTS.
         fast = False
     if fast:
         ret = _lib.mjcffi_guard_mj_copyData(c_dest, c_m, c_src)
+        if _m.stack.live:
+            _m.stack.sweep(dest)
         if not ret or _contract.pending:
             _m.check_error()
         return None
@@ -1363,13 +1381,15 @@ Reset ctrl to neutral values: zero, except quaternion inputs which reset to the 
     return _mj_resetCtrl(m, d)
 
 
-def _bind_mj_resetData(c_m, c_d):
+def _bind_mj_resetData(c_m, d, c_d):
     """The guarded call of mj_resetData with these converted arguments, ready to make
     (mj_resetData.prepare)."""
     guard = _lib.mjcffi_guard_mj_resetData
 
     def call():
         status = guard(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
     return call
@@ -1382,8 +1402,10 @@ def _mj_resetData(m, d, *, prepare=False):
     and returns the guarded call, ready to make."""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     if prepare:
-        return _bind_mj_resetData(c_m, c_d)
+        return _bind_mj_resetData(c_m, d, c_d)
     status = _lib.mjcffi_guard_mj_resetData(c_m, c_d)
+    if _m.stack.live:
+        _m.stack.sweep(d)
     if status or _contract.pending:
         _m.check(status)
 
@@ -1402,13 +1424,15 @@ Reset data to defaults.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_resetData(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
         return
     return _mj_resetData(m, d)
 
 
-def _bind_mj_resetDataDebug(c_m, c_d, debug_value):
+def _bind_mj_resetDataDebug(c_m, d, c_d, debug_value):
     """The guarded call of mj_resetDataDebug with these converted arguments, ready to make
     (mj_resetDataDebug.prepare)."""
     guard = _lib.mjcffi_guard_mj_resetDataDebug
@@ -1419,6 +1443,8 @@ def _bind_mj_resetDataDebug(c_m, c_d, debug_value):
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_resetDataDebug", {
                 "debug_value": ("unsigned char", debug_value)}) from None
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
     return call
@@ -1432,12 +1458,14 @@ def _mj_resetDataDebug(m, d, debug_value, *, prepare=False):
     c_m, c_d = _m.model_data(m, d, "m", "d")
     if prepare:
         _m.check_scalars("mj_resetDataDebug", {"debug_value": ("unsigned char", debug_value)})
-        return _bind_mj_resetDataDebug(c_m, c_d, debug_value)
+        return _bind_mj_resetDataDebug(c_m, d, c_d, debug_value)
     try:
         status = _lib.mjcffi_guard_mj_resetDataDebug(c_m, c_d, debug_value)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_resetDataDebug", {
             "debug_value": ("unsigned char", debug_value)}) from None
+    if _m.stack.live:
+        _m.stack.sweep(d)
     if status or _contract.pending:
         _m.check(status)
 
@@ -1460,13 +1488,15 @@ Reset data to defaults, fill everything else with debug_value.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
+            if _m.stack.live:
+                _m.stack.sweep(d)
             if status or _contract.pending:
                 _m.check(status)
             return
     return _mj_resetDataDebug(m, d, debug_value)
 
 
-def _bind_mj_resetDataKeyframe(c_m, c_d, key):
+def _bind_mj_resetDataKeyframe(c_m, d, c_d, key):
     """The guarded call of mj_resetDataKeyframe with these converted arguments, ready to make
     (mj_resetDataKeyframe.prepare)."""
     guard = _lib.mjcffi_guard_mj_resetDataKeyframe
@@ -1476,6 +1506,8 @@ def _bind_mj_resetDataKeyframe(c_m, c_d, key):
             status = guard(c_m, c_d, key)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_resetDataKeyframe", {"key": ("int", key)}) from None
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
     return call
@@ -1489,11 +1521,13 @@ def _mj_resetDataKeyframe(m, d, key, *, prepare=False):
     c_m, c_d = _m.model_data(m, d, "m", "d")
     if prepare:
         _m.check_scalars("mj_resetDataKeyframe", {"key": ("int", key)})
-        return _bind_mj_resetDataKeyframe(c_m, c_d, key)
+        return _bind_mj_resetDataKeyframe(c_m, d, c_d, key)
     try:
         status = _lib.mjcffi_guard_mj_resetDataKeyframe(c_m, c_d, key)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_resetDataKeyframe", {"key": ("int", key)}) from None
+    if _m.stack.live:
+        _m.stack.sweep(d)
     if status or _contract.pending:
         _m.check(status)
 
@@ -1516,6 +1550,8 @@ Reset data. If 0 <= key < nkey, set fields from specified keyframe.
         except (TypeError, OverflowError):
             pass                # a scalar C cannot take: the slow path names it
         else:
+            if _m.stack.live:
+                _m.stack.sweep(d)
             if status or _contract.pending:
                 _m.check(status)
             return
@@ -1566,13 +1602,15 @@ Mark a new frame on the mjData stack.
     return _mj_markStack(d)
 
 
-def _bind_mj_freeStack(c_d):
+def _bind_mj_freeStack(d, c_d):
     """The guarded call of mj_freeStack with these converted arguments, ready to make
     (mj_freeStack.prepare)."""
     guard = _lib.mjcffi_guard_mj_freeStack
 
     def call():
         status = guard(c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
     return call
@@ -1585,8 +1623,10 @@ def _mj_freeStack(d, *, prepare=False):
     and returns the guarded call, ready to make."""
     c_d = _m.struct(d, "mjData", "d")
     if prepare:
-        return _bind_mj_freeStack(c_d)
+        return _bind_mj_freeStack(d, c_d)
     status = _lib.mjcffi_guard_mj_freeStack(c_d)
+    if _m.stack.live:
+        _m.stack.sweep(d)
     if status or _contract.pending:
         _m.check(status)
 
@@ -1605,13 +1645,15 @@ to mj_markStack must no longer be used afterwards.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_freeStack(c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
         return
     return _mj_freeStack(d)
 
 
-def _bind_mj_stackAllocByte(c_d, bytes, alignment):
+def _bind_mj_stackAllocByte(d, c_d, bytes, alignment):
     """The guarded call of mj_stackAllocByte with these converted arguments, ready to make
     (mj_stackAllocByte.prepare)."""
     guard = _lib.mjcffi_guard_mj_stackAllocByte
@@ -1624,7 +1666,7 @@ def _bind_mj_stackAllocByte(c_d, bytes, alignment):
                 "bytes": ("size_t", bytes), "alignment": ("size_t", alignment)}) from None
         if not ret or _contract.pending:
             _m.check_error()
-        return None if ret == _m.NULL else ret
+        return _m.stack_array(d, ret, bytes, _m.BYTE)
     return call
 
 
@@ -1637,7 +1679,7 @@ def _mj_stackAllocByte(d, bytes, alignment, *, prepare=False):
     if prepare:
         _m.check_scalars("mj_stackAllocByte", {
             "bytes": ("size_t", bytes), "alignment": ("size_t", alignment)})
-        return _bind_mj_stackAllocByte(c_d, bytes, alignment)
+        return _bind_mj_stackAllocByte(d, c_d, bytes, alignment)
     try:
         ret = _lib.mjcffi_guard_mj_stackAllocByte(c_d, bytes, alignment)
     except (TypeError, OverflowError) as exc:
@@ -1645,34 +1687,20 @@ def _mj_stackAllocByte(d, bytes, alignment, *, prepare=False):
             "bytes": ("size_t", bytes), "alignment": ("size_t", alignment)}) from None
     if not ret or _contract.pending:
         _m.check_error()
-    return None if ret == _m.NULL else ret
+    return _m.stack_array(d, ret, bytes, _m.BYTE)
 
 
 @_p.preparable(_mj_stackAllocByte)
 def mj_stackAllocByte(d, bytes, alignment):
-    """mj_stackAllocByte(d: mujoco._structs.MjData, bytes: int, alignment: int) -> Any
+    """mj_stackAllocByte(d: mujoco._structs.MjData, bytes: int, alignment: int) -> numpy.typing.NDArray[numpy.uint8]
 
 Allocate a number of bytes on mjData stack at a specific alignment.
 Call mju_error on stack overflow.
 """
-    try:
-        c_d = d._ptr
-        fast = (d._cname == "mjData")
-    except _SLOW:
-        fast = False
-    if fast:
-        try:
-            ret = _lib.mjcffi_guard_mj_stackAllocByte(c_d, bytes, alignment)
-        except (TypeError, OverflowError):
-            pass                # a scalar C cannot take: the slow path names it
-        else:
-            if not ret or _contract.pending:
-                _m.check_error()
-            return None if ret == _m.NULL else ret
     return _mj_stackAllocByte(d, bytes, alignment)
 
 
-def _bind_mj_stackAllocNum(c_d, size):
+def _bind_mj_stackAllocNum(d, c_d, size):
     """The guarded call of mj_stackAllocNum with these converted arguments, ready to make
     (mj_stackAllocNum.prepare)."""
     guard = _lib.mjcffi_guard_mj_stackAllocNum
@@ -1684,7 +1712,7 @@ def _bind_mj_stackAllocNum(c_d, size):
             raise _m.scalar_error(exc, "mj_stackAllocNum", {"size": ("size_t", size)}) from None
         if not ret or _contract.pending:
             _m.check_error()
-        return ret
+        return _m.stack_array(d, ret, size, _m.NUM)
     return call
 
 
@@ -1696,40 +1724,26 @@ def _mj_stackAllocNum(d, size, *, prepare=False):
     c_d = _m.struct(d, "mjData", "d")
     if prepare:
         _m.check_scalars("mj_stackAllocNum", {"size": ("size_t", size)})
-        return _bind_mj_stackAllocNum(c_d, size)
+        return _bind_mj_stackAllocNum(d, c_d, size)
     try:
         ret = _lib.mjcffi_guard_mj_stackAllocNum(c_d, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_stackAllocNum", {"size": ("size_t", size)}) from None
     if not ret or _contract.pending:
         _m.check_error()
-    return ret
+    return _m.stack_array(d, ret, size, _m.NUM)
 
 
 @_p.preparable(_mj_stackAllocNum)
 def mj_stackAllocNum(d, size):
-    """mj_stackAllocNum(d: mujoco._structs.MjData, size: int) -> Any
+    """mj_stackAllocNum(d: mujoco._structs.MjData, size: int) -> numpy.typing.NDArray[numpy.float64]
 
 Allocate array of mjtNums on mjData stack. Call mju_error on stack overflow.
 """
-    try:
-        c_d = d._ptr
-        fast = (d._cname == "mjData")
-    except _SLOW:
-        fast = False
-    if fast:
-        try:
-            ret = _lib.mjcffi_guard_mj_stackAllocNum(c_d, size)
-        except (TypeError, OverflowError):
-            pass                # a scalar C cannot take: the slow path names it
-        else:
-            if not ret or _contract.pending:
-                _m.check_error()
-            return ret
     return _mj_stackAllocNum(d, size)
 
 
-def _bind_mj_stackAllocInt(c_d, size):
+def _bind_mj_stackAllocInt(d, c_d, size):
     """The guarded call of mj_stackAllocInt with these converted arguments, ready to make
     (mj_stackAllocInt.prepare)."""
     guard = _lib.mjcffi_guard_mj_stackAllocInt
@@ -1741,7 +1755,7 @@ def _bind_mj_stackAllocInt(c_d, size):
             raise _m.scalar_error(exc, "mj_stackAllocInt", {"size": ("size_t", size)}) from None
         if not ret or _contract.pending:
             _m.check_error()
-        return ret
+        return _m.stack_array(d, ret, size, _m.INT)
     return call
 
 
@@ -1753,36 +1767,22 @@ def _mj_stackAllocInt(d, size, *, prepare=False):
     c_d = _m.struct(d, "mjData", "d")
     if prepare:
         _m.check_scalars("mj_stackAllocInt", {"size": ("size_t", size)})
-        return _bind_mj_stackAllocInt(c_d, size)
+        return _bind_mj_stackAllocInt(d, c_d, size)
     try:
         ret = _lib.mjcffi_guard_mj_stackAllocInt(c_d, size)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_stackAllocInt", {"size": ("size_t", size)}) from None
     if not ret or _contract.pending:
         _m.check_error()
-    return ret
+    return _m.stack_array(d, ret, size, _m.INT)
 
 
 @_p.preparable(_mj_stackAllocInt)
 def mj_stackAllocInt(d, size):
-    """mj_stackAllocInt(d: mujoco._structs.MjData, size: int) -> Any
+    """mj_stackAllocInt(d: mujoco._structs.MjData, size: int) -> numpy.typing.NDArray[numpy.int32]
 
 Allocate array of ints on mjData stack. Call mju_error on stack overflow.
 """
-    try:
-        c_d = d._ptr
-        fast = (d._cname == "mjData")
-    except _SLOW:
-        fast = False
-    if fast:
-        try:
-            ret = _lib.mjcffi_guard_mj_stackAllocInt(c_d, size)
-        except (TypeError, OverflowError):
-            pass                # a scalar C cannot take: the slow path names it
-        else:
-            if not ret or _contract.pending:
-                _m.check_error()
-            return ret
     return _mj_stackAllocInt(d, size)
 
 
@@ -3306,13 +3306,15 @@ Evaluate velocity-dependent energy (kinetic).
     return _mj_energyVel(m, d)
 
 
-def _bind_mj_checkPos(c_m, c_d):
+def _bind_mj_checkPos(c_m, d, c_d):
     """The guarded call of mj_checkPos with these converted arguments, ready to make
     (mj_checkPos.prepare)."""
     guard = _lib.mjcffi_guard_mj_checkPos
 
     def call():
         status = guard(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
     return call
@@ -3325,8 +3327,10 @@ def _mj_checkPos(m, d, *, prepare=False):
     and returns the guarded call, ready to make."""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     if prepare:
-        return _bind_mj_checkPos(c_m, c_d)
+        return _bind_mj_checkPos(c_m, d, c_d)
     status = _lib.mjcffi_guard_mj_checkPos(c_m, c_d)
+    if _m.stack.live:
+        _m.stack.sweep(d)
     if status or _contract.pending:
         _m.check(status)
 
@@ -3345,19 +3349,23 @@ Check qpos, reset if any element is too big or nan.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_checkPos(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
         return
     return _mj_checkPos(m, d)
 
 
-def _bind_mj_checkVel(c_m, c_d):
+def _bind_mj_checkVel(c_m, d, c_d):
     """The guarded call of mj_checkVel with these converted arguments, ready to make
     (mj_checkVel.prepare)."""
     guard = _lib.mjcffi_guard_mj_checkVel
 
     def call():
         status = guard(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
     return call
@@ -3370,8 +3378,10 @@ def _mj_checkVel(m, d, *, prepare=False):
     and returns the guarded call, ready to make."""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     if prepare:
-        return _bind_mj_checkVel(c_m, c_d)
+        return _bind_mj_checkVel(c_m, d, c_d)
     status = _lib.mjcffi_guard_mj_checkVel(c_m, c_d)
+    if _m.stack.live:
+        _m.stack.sweep(d)
     if status or _contract.pending:
         _m.check(status)
 
@@ -3390,19 +3400,23 @@ Check qvel, reset if any element is too big or nan.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_checkVel(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
         return
     return _mj_checkVel(m, d)
 
 
-def _bind_mj_checkAcc(c_m, c_d):
+def _bind_mj_checkAcc(c_m, d, c_d):
     """The guarded call of mj_checkAcc with these converted arguments, ready to make
     (mj_checkAcc.prepare)."""
     guard = _lib.mjcffi_guard_mj_checkAcc
 
     def call():
         status = guard(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
     return call
@@ -3415,8 +3429,10 @@ def _mj_checkAcc(m, d, *, prepare=False):
     and returns the guarded call, ready to make."""
     c_m, c_d = _m.model_data(m, d, "m", "d")
     if prepare:
-        return _bind_mj_checkAcc(c_m, c_d)
+        return _bind_mj_checkAcc(c_m, d, c_d)
     status = _lib.mjcffi_guard_mj_checkAcc(c_m, c_d)
+    if _m.stack.live:
+        _m.stack.sweep(d)
     if status or _contract.pending:
         _m.check(status)
 
@@ -3435,6 +3451,8 @@ Check qacc, reset if any element is too big or nan.
         fast = False
     if fast:
         status = _lib.mjcffi_guard_mj_checkAcc(c_m, c_d)
+        if _m.stack.live:
+            _m.stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
         return
@@ -17661,7 +17679,7 @@ def _bind_mjc_getSDF(m, c_m, id):
             raise _m.scalar_error(exc, "mjc_getSDF", {"id": ("int", id)}) from None
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpPlugin, ret, m)
+        return _m.wrap_const(_structs.MjpPlugin, ret, m)
     return call
 
 
@@ -17683,7 +17701,7 @@ def _mjc_getSDF(m, id, *, prepare=False):
         raise _m.scalar_error(exc, "mjc_getSDF", {"id": ("int", id)}) from None
     if not ret or _contract.pending:
         _m.check_error()
-    return _m.wrap(_structs.MjpPlugin, ret, m)
+    return _m.wrap_const(_structs.MjpPlugin, ret, m)
 
 
 @_p.preparable(_mjc_getSDF, recheck=True)
@@ -18130,7 +18148,7 @@ def _bind_mjp_getPlugin(c_name, c_slot):
         ret = guard(c_name, c_slot)
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpPlugin, ret, None)
+        return _m.wrap_const(_structs.MjpPlugin, ret, None)
     return call
 
 
@@ -18146,7 +18164,7 @@ def _mjp_getPlugin(name, slot, *, prepare=False):
     ret = _lib.mjcffi_guard_mjp_getPlugin(c_name, c_slot)
     if not ret or _contract.pending:
         _m.check_error()
-    return _m.wrap(_structs.MjpPlugin, ret, None)
+    return _m.wrap_const(_structs.MjpPlugin, ret, None)
 
 
 @_p.preparable(_mjp_getPlugin)
@@ -18172,7 +18190,7 @@ slot: output array of shape (1,).
         ret = _lib.mjcffi_guard_mjp_getPlugin(c_name, c_slot)
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpPlugin, ret, None)
+        return _m.wrap_const(_structs.MjpPlugin, ret, None)
     return _mjp_getPlugin(name, slot)
 
 
@@ -18188,7 +18206,7 @@ def _bind_mjp_getPluginAtSlot(slot):
             raise _m.scalar_error(exc, "mjp_getPluginAtSlot", {"slot": ("int", slot)}) from None
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpPlugin, ret, None)
+        return _m.wrap_const(_structs.MjpPlugin, ret, None)
     return call
 
 
@@ -18206,7 +18224,7 @@ def _mjp_getPluginAtSlot(slot, *, prepare=False):
         raise _m.scalar_error(exc, "mjp_getPluginAtSlot", {"slot": ("int", slot)}) from None
     if not ret or _contract.pending:
         _m.check_error()
-    return _m.wrap(_structs.MjpPlugin, ret, None)
+    return _m.wrap_const(_structs.MjpPlugin, ret, None)
 
 
 @_p.preparable(_mjp_getPluginAtSlot)
@@ -18222,7 +18240,7 @@ Look up a plugin by the registered slot number that was returned by mjp_register
     else:
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpPlugin, ret, None)
+        return _m.wrap_const(_structs.MjpPlugin, ret, None)
     return _mjp_getPluginAtSlot(slot)
 
 
@@ -18323,7 +18341,7 @@ def _bind_mjp_findProvider(c_resource_name):
         ret = guard(c_resource_name)
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpResourceProvider, ret, None)
+        return _m.wrap_const(_structs.MjpResourceProvider, ret, None)
     return call
 
 
@@ -18338,7 +18356,7 @@ def _mjp_findProvider(resource_name, *, prepare=False):
     ret = _lib.mjcffi_guard_mjp_findProvider(c_resource_name)
     if not ret or _contract.pending:
         _m.check_error()
-    return _m.wrap(_structs.MjpResourceProvider, ret, None)
+    return _m.wrap_const(_structs.MjpResourceProvider, ret, None)
 
 
 @_p.preparable(_mjp_findProvider)
@@ -18358,7 +18376,7 @@ If no match, return NULL.
         ret = _lib.mjcffi_guard_mjp_findProvider(c_resource_name)
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpResourceProvider, ret, None)
+        return _m.wrap_const(_structs.MjpResourceProvider, ret, None)
     return _mjp_findProvider(resource_name)
 
 
@@ -18374,7 +18392,7 @@ def _bind_mjp_getProviderAtSlot(slot):
             raise _m.scalar_error(exc, "mjp_getProviderAtSlot", {"slot": ("int", slot)}) from None
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpResourceProvider, ret, None)
+        return _m.wrap_const(_structs.MjpResourceProvider, ret, None)
     return call
 
 
@@ -18392,7 +18410,7 @@ def _mjp_getProviderAtSlot(slot, *, prepare=False):
         raise _m.scalar_error(exc, "mjp_getProviderAtSlot", {"slot": ("int", slot)}) from None
     if not ret or _contract.pending:
         _m.check_error()
-    return _m.wrap(_structs.MjpResourceProvider, ret, None)
+    return _m.wrap_const(_structs.MjpResourceProvider, ret, None)
 
 
 @_p.preparable(_mjp_getProviderAtSlot)
@@ -18409,7 +18427,7 @@ If invalid slot number, return NULL.
     else:
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpResourceProvider, ret, None)
+        return _m.wrap_const(_structs.MjpResourceProvider, ret, None)
     return _mjp_getProviderAtSlot(slot)
 
 
@@ -18535,7 +18553,7 @@ def _bind_mjp_findEncoder(c_filename, c_content_type):
         ret = guard(c_filename, c_content_type)
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpEncoder, ret, None)
+        return _m.wrap_const(_structs.MjpEncoder, ret, None)
     return call
 
 
@@ -18551,7 +18569,7 @@ def _mjp_findEncoder(filename, content_type, *, prepare=False):
     ret = _lib.mjcffi_guard_mjp_findEncoder(c_filename, c_content_type)
     if not ret or _contract.pending:
         _m.check_error()
-    return _m.wrap(_structs.MjpEncoder, ret, None)
+    return _m.wrap_const(_structs.MjpEncoder, ret, None)
 
 
 @_p.preparable(_mjp_findEncoder)
@@ -18573,7 +18591,7 @@ If no match, return NULL.
         ret = _lib.mjcffi_guard_mjp_findEncoder(c_filename, c_content_type)
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpEncoder, ret, None)
+        return _m.wrap_const(_structs.MjpEncoder, ret, None)
     return _mjp_findEncoder(filename, content_type)
 
 
@@ -18600,7 +18618,7 @@ def _bind_mjp_findArchiveProvider(c_resource_name):
         ret = guard(c_resource_name)
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpResourceProvider, ret, None)
+        return _m.wrap_const(_structs.MjpResourceProvider, ret, None)
     return call
 
 
@@ -18615,7 +18633,7 @@ def _mjp_findArchiveProvider(resource_name, *, prepare=False):
     ret = _lib.mjcffi_guard_mjp_findArchiveProvider(c_resource_name)
     if not ret or _contract.pending:
         _m.check_error()
-    return _m.wrap(_structs.MjpResourceProvider, ret, None)
+    return _m.wrap_const(_structs.MjpResourceProvider, ret, None)
 
 
 @_p.preparable(_mjp_findArchiveProvider)
@@ -18635,7 +18653,7 @@ If no match, return NULL.
         ret = _lib.mjcffi_guard_mjp_findArchiveProvider(c_resource_name)
         if not ret or _contract.pending:
             _m.check_error()
-        return _m.wrap(_structs.MjpResourceProvider, ret, None)
+        return _m.wrap_const(_structs.MjpResourceProvider, ret, None)
     return _mjp_findArchiveProvider(resource_name)
 
 

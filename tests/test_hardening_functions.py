@@ -600,7 +600,7 @@ d = mjcffi.MjData(m)
 others = {"another kind": lambda kind: next(h for k, h in handles.items() if k != kind and h),
           "the right memory, raw": lambda kind: handles[kind] and ffi.cast("void *",
                                                                           handles[kind]._ptr),
-          "a stack pointer": lambda kind: mjcffi.mj_stackAllocNum(d, 3),
+          "a stack array": lambda kind: mjcffi.mj_stackAllocNum(d, 3),
           "ffi.new memory": lambda kind: ffi.new("char[]", 64),
           "NULL": lambda kind: ffi.NULL, "None": lambda kind: None, "int": lambda kind: 0}
 args = {"text": "abc", "array": None, "i": 0}
@@ -640,8 +640,10 @@ def test_item_every_handle_argument_takes_only_a_handle_of_its_kind():
         assert message.startswith(f"{argname} must be an {kind} handle"), (func, message)
         if label == "another kind":
             assert message.endswith(" handle") and f"not an {kind} " not in message
-        if label in ("the right memory, raw", "a stack pointer", "ffi.new memory", "NULL"):
+        if label in ("the right memory, raw", "ffi.new memory", "NULL"):
             assert "raw cffi pointer" in message, message
+        if label == "a stack array":                      # the stack allocators give arrays
+            assert message.endswith("not ndarray"), message
 
 
 def test_item_handles_work_where_mujoco_takes_them():

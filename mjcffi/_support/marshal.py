@@ -23,8 +23,8 @@ a short list of calls into this module, then the guarded C call.  The rules:
   IdError (IndexError and ValueError).  A mju_error inside MuJoCo becomes
   FatalError.
 
-Support module: imports only the compiled module, views, errors, contract (for
-the flag of a stashed callback error) and NumPy.
+Support module: imports only the compiled module, views, const, stack, errors,
+contract (for the flag of a stashed callback error) and NumPy.
 """
 
 import operator
@@ -38,6 +38,8 @@ from . import errors as _errors
 from . import contract as _contract
 from .errors import FatalError  # noqa: F401  (raised by the generated functions)
 from .errors import ArgumentError, IdError, with_note  # noqa: F401  (also for _functions)
+from . import stack  # noqa: F401  (for _functions: the calls that release stack arrays)
+from .const import wrap_const  # noqa: F401  (for _functions: const struct results)
 from .library import ffi, lib
 from .views import DTYPES
 
@@ -674,6 +676,12 @@ def fill(out, pointer, count):
         if target != pointer:
             ffi.memmove(target, pointer, count * ffi.sizeof(ffi.typeof(pointer).item))
     return out
+
+
+def stack_array(d, pointer, count, elem):
+    """A stack allocation of `d` (mj_stackAllocNum, ...) as a view of `count` `elem`s
+    that keeps d alive; made read-only when a later call releases it (stack.py)."""
+    return stack.array(d, pointer, operator.index(count), elem.dtype)
 
 
 def copy_array(pointer, count, elem):

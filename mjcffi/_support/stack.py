@@ -1,0 +1,63 @@
+"""Arrays on an mjData's stack: what mj_stackAllocNum, mj_stackAllocInt and
+mj_stackAllocByte return.
+
+Each is a NumPy view of exactly the size asked for, in the mjData's arena, and it
+keeps the MjData alive, so it never shows memory outside that arena.
+
+MuJoCo releases the allocation later: mj_freeStack pops the frame it was made in,
+and mj_resetData (also when mj_step, mj_step1, mj_step2 or mj_checkPos/Vel/Acc
+reset a bad state), mj_resetDataDebug, mj_resetDataKeyframe, mj_copyData and
+mjv_copyData empty the whole stack.  MuJoCo then hands those bytes out again, to
+the next allocation or to its own temporaries.  So when one of those calls
+releases an array, mjcffi makes it read-only: a write raises ValueError, and a
+read shows whatever MuJoCo has put there since.  A view taken from the array
+before the release (`a[2:]`) does not follow: keep the array itself, not views of
+it.  A raw `lib` call that releases them does not freeze them either.
+
+Support module: imports only the compiled module and views.py.
+"""
+
+import weakref
+
+from .library import ffi
+from .views import view
+
+live = False       # some stack array may be unreleased: the releasing calls sweep
+_arrays: dict = {}  # mjData address -> [(weakref to the array, d->pstack just after it)]
+
+
+def array(d, pointer, count, dtype):
+    """The view of `count` `dtype` elements that a stack allocation of `d` returned."""
+    global live
+    a = view(pointer, dtype, (count,), d._root)
+    if count:
+        key = int(ffi.cast("uintptr_t", d._ptr))
+        _arrays.setdefault(key, []).append((weakref.ref(a), d._ptr.pstack))
+        live = True
+    return a
+
+
+def sweep(d):
+    """After a call that may have released `d`'s stack: make the arrays it released
+    read-only.  An allocation ends `pstack` bytes below the stack's bottom; it is
+    released once d->pstack is below that."""
+    global live
+    key = int(ffi.cast("uintptr_t", d._ptr))
+    entries = _arrays.get(key)
+    if not entries:
+        return
+    pstack = d._ptr.pstack
+    kept = []
+    for ref, top in entries:
+        a = ref()
+        if a is None:
+            continue
+        if pstack < top:
+            a.flags.writeable = False
+        else:
+            kept.append((ref, top))
+    if kept:
+        _arrays[key] = kept
+    else:
+        del _arrays[key]
+        live = bool(_arrays)
