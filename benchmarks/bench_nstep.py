@@ -3,6 +3,10 @@
 The C loop is `lib.mjcffi_step(m, d, n)`: mj_step n times in C under one
 guard, nothing else, so its time per step is MuJoCo's own.  Each binding's
 Python loop and its `mj_step(m, d, nstep=n)` are compared with it.
+
+`ctrl_c` measures what Ctrl-C costs (issue 27): the same C loop with its SIGINT
+token taken and a counter polled per step (`lib.mjcffi_step`), against the loop
+with neither (`lib.mjcffi_step_loop(..., token=-1)`), interleaved in one process.
 """
 
 import importlib.resources
@@ -61,4 +65,27 @@ def run(rounds=11):
             lines.append(f"| {label} | {call} | {a * 1e6:.2f} µs | {b * 1e6:.2f} µs | "
                          f"{a / b:.2f} | {a / c:.2f} |")
         lines.append(f"| {label} | C loop | {c * 1e6:.2f} µs | | | 1.00 |")
+    return lines + [""] + ctrl_c()
+
+
+def ctrl_c(rounds=15):
+    """What making the nstep loop stoppable by Ctrl-C costs: the loop with a SIGINT token
+    (a sigaction call to check that mjcffi's handler is in place, one per call, and a
+    counter read per step) over the loop without."""
+    m = mjcffi.MjModel.from_xml_string(scenes.PENDULUM)
+    d = mjcffi.MjData(m)
+    space = {"lib": mjcffi.lib, "m": m._ptr, "d": d._ptr, "NULL": mjcffi.ffi.NULL}
+    lines = ["## What Ctrl-C costs", "",
+             f"The nstep loop (the pendulum, median of {rounds} interleaved rounds) with the "
+             "SIGINT token taken and polled per step, as `mj_step(m, d, nstep)`, rollout and "
+             "MjSimPool run it, over the same loop with no token "
+             "(`lib.mjcffi_step_loop(..., token=-1)`), both in C on the main thread.", "",
+             "| nstep | with Ctrl-C | without | ratio |", "|---:|---:|---:|---:|"]
+    for n in (2, 20, 2000):
+        medians = interleaved({
+            "with": per_call(f"lib.mjcffi_step(m, d, {n})", space, max(1, 2000 // n)),
+            "without": per_call(f"lib.mjcffi_step_loop(m, d, {n}, NULL, -1)", space,
+                                max(1, 2000 // n))}, rounds)
+        a, b = medians["with"], medians["without"]
+        lines.append(f"| {n} | {a * 1e6:.2f} µs | {b * 1e6:.2f} µs | {a / b:.3f} |")
     return lines

@@ -12,6 +12,12 @@ the call (mjcffi_data_enter/leave in mjcffi/_c/claims.c): another thread's call 
 same mjData is refused, and so is, inside a call on this thread, one of
 RESTARTS, which reset the arena that the running call is filling.
 
+A function taking an mjSpec or a spec element holds the spec for the call
+(mjcffi_spec_enter/leave in mjcffi/_c/claims.c): another thread's call on the same
+spec is refused.  The spec is found before the call (mjcffi_spec_of), so a call that
+deletes the element or the spec releases it all the same.  One taking an mjBatch
+holds it (mjcffi_batch_enter/leave): a second call on it while it runs is refused.
+
 A few calls are first checked by hand-written C (PRECHECKS): mjr_makeContext
 refuses to run without an OpenGL library, as an error inside it cannot be
 caught twice.
@@ -35,6 +41,7 @@ _C_HEAD = """\
 #include <mujoco/mjbatch.h>
 
 #include "guard_chain.h"
+#include "claims.h"
 #include "guards.h"
 """
 
@@ -94,6 +101,26 @@ def _held_data(func, args):
     return names[0] if names else None
 
 
+_SPEC_ARG = re.compile(r"^(?:const)?(mjSpec|mjs[A-Z]\w*)\*$")
+_NOT_ELEMENTS = frozenset({"mjsOrientation", "mjsCompiler"})   # parts, not elements
+
+
+def _held_specs(args):
+    """The C expressions of the specs `args` reach: an mjSpec, or the spec of an element."""
+    found = []
+    for name, decl in args:
+        match = _SPEC_ARG.match(decl.replace(" ", ""))
+        if not match or match.group(1) in _NOT_ELEMENTS:
+            continue
+        if match.group(1) == "mjSpec":
+            found.append(name)
+        elif match.group(1) == "mjsElement":
+            found.append(f"mjcffi_spec_of({name})")
+        else:
+            found.append(f"mjcffi_spec_of({name} ? {name}->element : NULL)")
+    return found
+
+
 def _guard(func):
     """(prototype, definition) of mjcffi_guard_<func.name>."""
     restype, args, variadic = _signature(func)
@@ -105,7 +132,11 @@ def _guard(func):
     if variadic:
         call_args.insert(len(call_args) - 1, '"%s"')
     call = f"{func.name}({', '.join(call_args)})"
-    release = [f"  mjcffi_data_leave({held});"] if held else []
+    specs = _held_specs(args)
+    batch = next((name for name, decl in args if decl.replace(" ", "") == "mjBatch*"), None)
+    release = [f"  mjcffi_spec_leave(mjcffi_s{i});" for i in reversed(range(len(specs)))]
+    release += [f"  mjcffi_data_leave({held});"] if held else []
+    release += [f"  mjcffi_batch_leave({batch});"] if batch else []
     zero = ["  memset(&mjcffi_result, 0, sizeof mjcffi_result);"] if not void else []
     failed = "1" if void else "mjcffi_result"
     lines = [head + " {",
@@ -117,6 +148,18 @@ def _guard(func):
         lines += [f'  if (mjcffi_data_enter({held}, {restarts}, "{func.name}")) {{',
                   *["  " + line for line in zero],
                   f"    return {failed};", "  }"]
+    if batch:
+        lines += [f'  if (mjcffi_batch_enter({batch}, "{func.name}")) {{',
+                  *([f"    mjcffi_data_leave({held});"] if held else []),
+                  *["  " + line for line in zero], f"    return {failed};", "  }"]
+    for i, spec in enumerate(specs):
+        lines.append(f"  const mjSpec* mjcffi_s{i} = {spec};")
+    for i in range(len(specs)):
+        undo = [f"    mjcffi_spec_leave(mjcffi_s{j});" for j in reversed(range(i))]
+        undo += [f"    mjcffi_data_leave({held});"] if held else []
+        undo += [f"    mjcffi_batch_leave({batch});"] if batch else []
+        lines += [f'  if (mjcffi_spec_enter(mjcffi_s{i}, "{func.name}")) {{', *undo,
+                  *["  " + line for line in zero], f"    return {failed};", "  }"]
     precheck, on_failure = PRECHECKS.get(func.name, (None, None))
     if precheck:
         lines += [f'  if ({precheck}("{func.name}")) {{', *["  " + line for line in zero],

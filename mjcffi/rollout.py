@@ -32,9 +32,9 @@ import weakref
 
 import numpy as np
 
-from ._support import contract as _contract, marshal as _marshal
+from ._support import contract as _contract, interrupt as _interrupt, marshal as _marshal
 from ._generated.enums import mjtState
-from ._support.errors import FatalError, with_note
+from ._support.errors import FatalError, raise_pending, with_note
 from ._support.library import ffi, lib
 
 __all__ = ["Rollout", "rollout", "shutdown_persistent_pool"]
@@ -46,6 +46,7 @@ _CTRL = int(mjtState.mjSTATE_CTRL)
 _MESSAGE_SIZE = 2048
 _INT_MAX = 2**31 - 1
 _MAX_THREADS = 4096      # the most threads a Rollout starts (its nthread)
+_REFUSED, _INTERRUPTED = -1, -2   # what mjcffi_rollout returns besides a count (rollout.h)
 
 
 class Rollout:
@@ -68,6 +69,7 @@ class Rollout:
         self.nthread = nthread
         self._pool = self._start()
         self._open = True
+        self._callers = set()      # the threads in a call on this pool now
         _live.add(self)
 
     def _start(self):
@@ -317,8 +319,15 @@ class Rollout:
             chunk_size = max(1, nbatch // (10 * self.nthread)) if self.nthread else nbatch
         failed = np.zeros(nbatch, np.uint8)
         message = ffi.new("char[]", _MESSAGE_SIZE)
+        me = threading.get_ident()
+        if me in self._callers:      # a callback on this thread (the pool's C refuses its own)
+            raise with_note(RecursionError("rollout: this Rollout is running the call whose "
+                                           "callback made this one"),
+                            "a Rollout waits for the callbacks of its call, so they may not "
+                            "call it; give the callback a Rollout of its own")
         # a Python callback's exception on the pool's threads is this call's
         claim = _contract.scope(datas) if _contract.python_callbacks and len(datas) > 1 else None
+        self._callers.add(me)
         try:
             nfailed = lib.mjcffi_rollout(
                 pool, m, len(m), ffi.new("mjData*[]", datas), nbatch, nstep, control_spec,
@@ -328,8 +337,13 @@ class Rollout:
                 _pointer(state), _pointer(sensordata),
                 ffi.from_buffer("unsigned char[]", failed), message, _MESSAGE_SIZE)
         finally:
+            self._callers.discard(me)
             if claim is not None:
                 _contract.unscope(claim)
+        if nfailed == _REFUSED:        # a callback of this pool's call called it
+            raise_pending()
+        if nfailed == _INTERRUPTED:
+            _interrupt.stopped("rollout")
         if _contract.pending:
             _contract.raise_stashed()
         if nfailed:

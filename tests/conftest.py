@@ -48,3 +48,21 @@ def run_c_main(mujoco_include, tmp_path):
                         "-o", str(exe)], check=True, capture_output=True)
         return subprocess.run([str(exe)], check=True, capture_output=True, text=True).stdout
     return run
+
+
+@pytest.fixture
+def run_python():
+    """Run `code` (dedented) in a new Python process; (returncode, stdout + stderr).  For
+    what may crash or hang the process: a hang ends at `timeout` with returncode None."""
+    import sys
+    import textwrap
+
+    def run(code, timeout=60):
+        try:
+            done = subprocess.run([sys.executable, "-c", textwrap.dedent(code)],
+                                  capture_output=True, text=True, timeout=timeout)
+        except subprocess.TimeoutExpired as expired:
+            out = (expired.stdout or b"") + (expired.stderr or b"")
+            return None, out.decode("utf-8", "replace") if isinstance(out, bytes) else out
+        return done.returncode, done.stdout + done.stderr
+    return run

@@ -244,9 +244,6 @@ def test_mjcffi_step_zero_steps_is_a_no_op():
 
 def test_error_in_one_thread_leaves_another_untouched():
     m = load_xml_string(boxes_xml())
-    nstep = 2000
-    expected = trajectory(m, make_data(m), nstep)
-
     failing_started, done = threading.Event(), threading.Event()
     counts = {"during": 0}
 
@@ -262,11 +259,15 @@ def test_error_in_one_thread_leaves_another_untouched():
                 failing_started.set()
 
     def stepping():
-        d = make_data(m)
+        # Steps in chunks until the other thread has failed a few times meanwhile:
+        # on two loaded cores a fixed length could end before it is scheduled again.
+        d, states = make_data(m), []
         failing_started.wait(10)
         try:
-            counts["states"] = trajectory(m, d, nstep)
+            while counts["during"] < 3 and len(states) < 50_000:
+                states += trajectory(m, d, 500)
         finally:
+            counts["states"] = states
             done.set()
 
     threads = [threading.Thread(target=failing), threading.Thread(target=stepping)]
@@ -274,8 +275,8 @@ def test_error_in_one_thread_leaves_another_untouched():
         thread.start()
     for thread in threads:
         thread.join()
-    assert counts["during"] > 1                       # errors kept coming while the other stepped
-    assert counts["states"] == expected
+    assert counts["during"] >= 3                      # errors kept coming while the other stepped
+    assert counts["states"] == trajectory(m, make_data(m), len(counts["states"]))
 
 
 def test_error_and_message_are_per_thread():

@@ -25,13 +25,14 @@ def mujoco_package_dir():
 
 # What the cdef reads, in order: the generated declarations of MuJoCo and of the guards,
 # then each hand-written C file's header, then the callback trampolines (cdef only).
-CDEF = ("generated/cdef.h", "guard.h", "generated/guards.h", "gl.h", "arena.h", "unpickle.h",
-        "timer.h", "rollout.h", "batchfuncs.h", "sim_pid.h", "callbacks.h")
+CDEF = ("generated/cdef.h", "guard.h", "claims.h", "interrupt.h", "generated/guards.h", "gl.h",
+        "arena.h", "unpickle.h", "timer.h", "rollout.h", "batchfuncs.h", "sim_pid.h",
+        "callbacks.h")
 # The C files compiled into the module: one per concern (see each file's first lines).
-SOURCES = ("guard.c", "step.c", "claims.c", "gl.c", "arena.c", "unpickle.c", "timer.c",
+SOURCES = ("guard.c", "step.c", "claims.c", "interrupt.c", "gl.c", "arena.c", "unpickle.c", "timer.c",
            "generated/guards.c", "rollout.c", "batchfuncs.c", "sim_pid.c")
 # The headers the module's own source includes (callbacks.h is extern "Python": cdef only).
-INCLUDED = ("guard.h", "guards.h", "gl.h", "arena.h", "unpickle.h", "timer.h", "rollout.h",
+INCLUDED = ("guard.h", "claims.h", "interrupt.h", "guards.h", "gl.h", "arena.h", "unpickle.h", "timer.h", "rollout.h",
             "batchfuncs.h", "sim_pid.h")
 
 

@@ -13,10 +13,15 @@ const char* mjcffi_take_error(void);
 
 /* What the last error caught on this thread was: MuJoCo's mju_error (0), a call
    refused because another thread's call holds its mjData (1), or because it would
-   restart the pipeline of an mjData that a call on this thread is computing (2). */
+   restart the pipeline of an mjData that a call on this thread is computing (2), or
+   because another thread's call holds its mjSpec (3; see claims.h), or because a
+   callback of a pool's job called into a pool that is waiting for it (4: a Rollout,
+   an MjSimPool, a Batch). */
 #define MJCFFI_ERROR_FATAL 0
 #define MJCFFI_ERROR_BUSY 1
 #define MJCFFI_ERROR_REENTRY 2
+#define MJCFFI_ERROR_SPEC_BUSY 3
+#define MJCFFI_ERROR_POOL_REENTRY 4
 int mjcffi_error_kind(void);
 
 /* mj_step(m, d) nstep times under one guard (cffi releases the GIL around
@@ -28,3 +33,7 @@ int mjcffi_step(const mjModel* m, mjData* d, int nstep);
    under one guard as mjcffi_step (mju_error in fn is caught too).  nstep 0: fn once,
    no step.  0, or 1 when an error was caught or d is busy. */
 int mjcffi_step_substep(const mjModel* m, mjData* d, int nstep, mjfGeneric fn);
+
+/* Their loop, stopped by a SIGINT after `token` (interrupt.h; -1: never): for the pool
+   threads, whose caller took the token, and for the benchmark of what Ctrl-C costs. */
+int mjcffi_step_loop(const mjModel* m, mjData* d, int nstep, mjfGeneric fn, int token);

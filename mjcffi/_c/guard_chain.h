@@ -9,6 +9,7 @@
 #include <setjmp.h>
 
 #include <mujoco/mujoco.h>
+#include <mujoco/mjbatch.h>
 
 typedef struct mjcffi_guard_ {
   jmp_buf env;                  /* where a caught mju_error lands */
@@ -24,6 +25,15 @@ void mjcffi_guard_enter(mjcffi_guard* guard);
    the call in the message.  Each 0 is matched by one mjcffi_data_leave. */
 int mjcffi_data_enter(const mjData* d, int restarts, const char* func);
 void mjcffi_data_leave(const mjData* d);
+
+/* Hold batch b for a call (b may be NULL): 0, or 1 with MJCFFI_ERROR_POOL_REENTRY pending
+   when a call holds it already, on any thread.  Each 0 is matched by mjcffi_batch_leave. */
+int mjcffi_batch_enter(const mjBatch* b, const char* func);
+void mjcffi_batch_leave(const mjBatch* b);
+
+/* The spec of `element` (mjs_getSpec), or NULL for NULL: what the guards of functions
+   taking an element hold, with mjcffi_spec_enter/leave (claims.h). */
+const mjSpec* mjcffi_spec_of(const mjsElement* element);
 
 /* mjr_makeContext's guard: 0, or 1 with a FatalError pending when no OpenGL library is
    loaded or an earlier call failed; mjcffi_render_failed records a failure. */

@@ -23,6 +23,7 @@
 #include "guard_chain.h"
 #include "guards.h"
 #include "guard.h"
+#include "interrupt.h"
 #include "rollout.h"
 
 #define MESSAGE_SIZE 2048   // as guard.c's record of a caught error
@@ -44,6 +45,7 @@ typedef struct {
   mjtNum* state;
   mjtNum* sensordata;
   unsigned char* failed;
+  int token;                  // the caller's SIGINT token (interrupt.h): stop when it moves
   atomic_int next;            // the next chunk to hand out
 } rollout_job;
 
@@ -136,7 +138,7 @@ static void roll_one(const rollout_job* job, mjData* d, int r, rollout_failures*
     d->warning[i].number = 0;
   }
 
-  for (int t = 0; t < job->nstep; t++) {
+  for (int t = 0; t < job->nstep && !mjcffi_interrupted(job->token); t++) {
     reached = t;
     // a warning means the rollout diverged: repeat its last outputs to the end
     if (warned(d)) {
@@ -162,7 +164,7 @@ static void rollout_work(void* arg, int thread, rollout_failures* failures) {
   int spec = job->control_spec;
   for (;;) {
     int chunk = atomic_fetch_add_explicit(&job->next, 1, memory_order_relaxed);
-    if (chunk >= job->nchunk) {
+    if (chunk >= job->nchunk || mjcffi_interrupted(job->token)) {
       return;
     }
     // inputs left out of control_spec start at zero; the sizes are every model's
@@ -197,6 +199,10 @@ static void rollout_work(void* arg, int thread, rollout_failures* failures) {
 
 // What a thread of a job runs: its share of `job`, failures noted in `failures`.
 typedef void (*pool_work)(void* job, int thread, rollout_failures* failures);
+
+// The pool whose job this thread is running now (its caller's share or a worker's), or
+// NULL: a callback that the job runs must not call into that pool, which waits for it.
+static _Thread_local mjcffi_rollout_pool* running_pool;
 
 typedef struct {
   mjcffi_rollout_pool* pool;
@@ -278,7 +284,9 @@ static void* worker_main(void* arg) {
       return NULL;
     }
     seen = generation;
+    running_pool = pool;
     pool->work(pool->job, self->id, &pool->failures[self->id]);
+    running_pool = NULL;
     if (atomic_fetch_sub(&pool->busy, 1) == 1) {
       pthread_mutex_lock(&pool->lock);     // the caller may be asleep on `done`
       pthread_cond_signal(&pool->done);
@@ -368,19 +376,55 @@ static void merge_failures(rollout_failures* into, const rollout_failures* f) {
   into->nfailed += f->nfailed;
 }
 
+// Take `pool` for a job on this thread: 0, or 1 with the refusal pending.  A thread
+// running one of the pool's jobs (a callback inside it) is refused, as the pool would
+// wait for that very callback; so is one running another pool's job when this pool is
+// busy, as two pools whose callbacks call each other would each wait for the other.
+// Other threads wait their turn: calls on one pool run one after the other.
+static int take_pool(mjcffi_rollout_pool* pool, const char* func) {
+  const char* why = NULL;
+  if (running_pool == pool) {
+    why = "this pool is running the call whose callback made this one; a pool's "
+          "callback may not call that pool";
+  } else if (running_pool) {
+    if (pthread_mutex_trylock(&pool->call)) {
+      why = "this pool is busy, and this call comes from a callback of another pool's "
+            "call: it does not wait, as the two pools could wait for each other forever";
+    }
+    if (!why) return 0;
+  } else {
+    pthread_mutex_lock(&pool->call);
+    return 0;
+  }
+  char text[512];
+  snprintf(text, sizeof(text), "%s: %s", func, why);
+  return mjcffi_record_error(MJCFFI_ERROR_POOL_REENTRY, text);
+}
+
+// This thread's share of a job, with running_pool saying whose it is.
+static void work_share(mjcffi_rollout_pool* pool, pool_work work, void* job,
+                       rollout_failures* failures) {
+  mjcffi_rollout_pool* outer = running_pool;
+  running_pool = pool;
+  work(job, 0, failures);
+  running_pool = outer;
+}
+
 // Run `job` on every thread of `pool` (or on the calling thread alone, when
-// `alone` or without a pool); its failures end up in `result`.
-static void run_job(mjcffi_rollout_pool* pool, int alone, pool_work work, void* job,
-                    rollout_failures* result) {
+// `alone` or without a pool); its failures end up in `result`.  0, or 1 when the
+// pool refused the call (see take_pool).
+static int run_job(mjcffi_rollout_pool* pool, int alone, pool_work work, void* job,
+                   rollout_failures* result, const char* func) {
   result->nfailed = 0;
+  if (pool && take_pool(pool, func)) {
+    return 1;
+  }
   if (!pool || alone) {
-    if (pool) pthread_mutex_lock(&pool->call);
-    work(job, 0, result);
+    work_share(pool, work, job, result);
     if (pool) pthread_mutex_unlock(&pool->call);
-    return;
+    return 0;
   }
 
-  pthread_mutex_lock(&pool->call);
   for (int i = 0; i < pool->nthread; i++) {
     pool->failures[i].nfailed = 0;
   }
@@ -394,7 +438,7 @@ static void run_job(mjcffi_rollout_pool* pool, int alone, pool_work work, void* 
   }
   pthread_mutex_unlock(&pool->lock);
 
-  work(job, 0, &pool->failures[0]);
+  work_share(pool, work, job, &pool->failures[0]);
 
   // wait for every worker to check in: spin a while, then sleep
   spinner spin = {0, 0};
@@ -411,6 +455,7 @@ static void run_job(mjcffi_rollout_pool* pool, int alone, pool_work work, void* 
     merge_failures(result, &pool->failures[i]);
   }
   pthread_mutex_unlock(&pool->call);
+  return 0;
 }
 
 
@@ -444,10 +489,16 @@ int mjcffi_rollout(mjcffi_rollout_pool* pool,
     .state = state, .sensordata = sensordata, .failed = failed,
   };
   atomic_init(&job.next, 0);
+  job.token = mjcffi_interrupt_token();
 
   // one chunk needs no other thread; d[0] is this thread's data
   rollout_failures result;
-  run_job(pool, job.nchunk == 1, rollout_work, &job, &result);
+  if (run_job(pool, job.nchunk == 1, rollout_work, &job, &result, "rollout")) {
+    return -1;
+  }
+  if (mjcffi_interrupted(job.token)) {
+    return -2;
+  }
   if (result.nfailed) snprintf(message, message_size, "%s", result.message);
   return result.nfailed;
 }
@@ -462,6 +513,7 @@ typedef struct {
   const mjfGeneric* substep;
   int nsim, nsubsteps, forward;
   unsigned char* status;
+  int token;                  // the caller's SIGINT token (interrupt.h)
   atomic_int next;            // the next sim to hand out
 } sim_job;
 
@@ -472,13 +524,13 @@ static void sim_work(void* arg, int thread, rollout_failures* failures) {
   (void)thread;               // each sim has its own mjData
   for (;;) {
     int i = atomic_fetch_add_explicit(&job->next, 1, memory_order_relaxed);
-    if (i >= job->nsim) {
+    if (i >= job->nsim || mjcffi_interrupted(job->token)) {
       return;
     }
     int caught = job->forward
         ? mjcffi_guard_mj_forward(job->m[i], job->d[i])
-        : mjcffi_step_substep(job->m[i], job->d[i], job->nsubsteps,
-                              job->substep ? job->substep[i] : NULL);
+        : mjcffi_step_loop(job->m[i], job->d[i], job->nsubsteps,
+                           job->substep ? job->substep[i] : NULL, job->token);
     if (caught) {
       int kind = mjcffi_error_kind();
       job->status[i] = (unsigned char)(1 + kind);
@@ -502,8 +554,14 @@ int mjcffi_sim_pool_run(mjcffi_rollout_pool* pool,
   for (int i = 0; i < nsim; i++) {
     status[i] = 0;
   }
+  job.token = forward ? -1 : mjcffi_interrupt_token();
   rollout_failures result;
-  run_job(pool, nsim == 1, sim_work, &job, &result);
+  if (run_job(pool, nsim == 1, sim_work, &job, &result, "MjSimPool")) {
+    return -1;
+  }
+  if (mjcffi_interrupted(job.token)) {
+    return -2;
+  }
   if (result.nfailed) snprintf(message, message_size, "%s", result.message);
   return result.nfailed;
 }

@@ -29,8 +29,12 @@ void mjcffi_rollout_pool_free(mjcffi_rollout_pool* pool);
 
    d holds nthread data (the pool's, or 1 without a pool); chunk_size
    rollouts at a time go to each thread.  Calls on one pool run one after
-   the other.  Returns the number of failed rollouts, and copies the message
-   of the lowest failed one into message (message_size bytes). */
+   the other, but a call from a callback of a pool's job into that pool, or
+   into a busy one, is refused.  A SIGINT on the main thread (interrupt.h)
+   stops every rollout at its next step.  Returns the number of failed
+   rollouts, and copies the message of the lowest failed one into message
+   (message_size bytes); -1 when the pool refused the call (the error is
+   pending, MJCFFI_ERROR_POOL_REENTRY), -2 when a SIGINT stopped it. */
 int mjcffi_rollout(mjcffi_rollout_pool* pool,
                    const mjModel* const* m, int nmodel, mjData* const* d,
                    int nbatch, int nstep, int control_spec, int chunk_size,
@@ -48,9 +52,10 @@ int mjcffi_rollout(mjcffi_rollout_pool* pool,
    mju_error (or a d[i] held by another call) stops that sim alone and the
    others go on.  The d[i] must all differ.  status[i] becomes 0, or
    1 + MJCFFI_ERROR_* (see guard.h) for a sim that failed.  Calls on one
-   pool run one after the other.  Returns the number of failed sims, and
-   copies the message of the lowest failed one into message (message_size
-   bytes). */
+   pool run one after the other, refused as mjcffi_rollout's are.  A SIGINT
+   stops the steps of every sim at a step boundary.  Returns the number of
+   failed sims, and copies the message of the lowest failed one into message
+   (message_size bytes); -1 when refused, -2 when a SIGINT stopped it. */
 int mjcffi_sim_pool_run(mjcffi_rollout_pool* pool,
                         const mjModel* const* m, mjData* const* d, const mjfGeneric* substep,
                         int nsim, int nsubsteps, int forward,

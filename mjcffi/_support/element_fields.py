@@ -22,7 +22,7 @@ import operator
 
 import numpy as np
 
-from . import errors as _errors, marshal as _marshal
+from . import errors as _errors, marshal as _marshal, spec_claims as _claims
 from .library import ffi, lib
 from .views import FixedArray, Nested, Struct, _scalar_error
 from .elements import _BY_KIND
@@ -74,6 +74,7 @@ def _read_text(self, key, address):
             return ""                 # a string MuJoCo never made (body.plugin.info)
         entry = state[key] = [memoryview(ffi.buffer(pointer, _STRING_BYTES)), None, None,
                               pointer]
+    _claims.check(self, b"reading a spec string")
     raw = entry[0].tobytes()
     data = ffi.string(_get_string(entry[3]))
     text = data.decode()
@@ -86,6 +87,7 @@ def string_field(name, doc):
     """A `mjString *name` field as str, read and written through MuJoCo."""
     def set_value(self, value):
         text = _text(self, name, value)
+        _claims.check(self, b"writing a spec string")
         lib.mjs_setString(_made(self, name, getattr(self._ptr, name)), text)
     get = _string_reader("_s_" + name, lambda self: getattr(self._ptr, name))
     get.c_string = name                     # for _assign_values
@@ -131,11 +133,7 @@ def element_name(doc="the element's name"):
 def _raise_taken(message):
     """Raise what a guarded call caught, whose message `message` was taken already
     (as _errors.raise_pending would have)."""
-    text = ffi.string(message).decode("utf-8", "replace")
-    kind = lib.mjcffi_error_kind()
-    if kind == lib.MJCFFI_ERROR_FATAL:
-        raise _errors.FatalError(text)
-    raise _errors.refusal(kind, text)
+    raise _errors.taken_error(message)
 
 
 def _spec_error(element):

@@ -20,6 +20,7 @@ import numpy as np
 from numpy.lib.mixins import NDArrayOperatorsMixin
 
 from . import marshal as _marshal
+from . import spec_claims as _claims
 from .library import ffi, lib
 from .element_fields import _cast, _made, _text, _where
 
@@ -43,6 +44,7 @@ class _NumberVector(NDArrayOperatorsMixin):
     def _span(self):
         """(pointer to the first number, how many)."""
         owner = self._owner
+        _claims.check(owner, b"a spec vector")
         state = owner.__dict__
         vector = state.get(self._key)
         if vector is None:
@@ -174,6 +176,7 @@ class MjStringVec:
     __hash__ = None  # type: ignore[assignment]  # mutable
 
     def _pointer(self):
+        _claims.check(self._owner, b"a spec string vector")
         return getattr(self._owner._ptr, self._field)
 
     def __len__(self):
@@ -375,10 +378,12 @@ def vector_field(name, kind, doc):
             return vector
     else:
         def get(self):
+            _claims.check(self, b"reading a spec vector")
             pointer = getattr(self._ptr, name)
             return read(pointer) if pointer != NULL else read_empty()
         read_empty = {"mjByteVec": bytes}.get(kind, list)
 
     def set_value(self, value):
+        _claims.check(self, b"writing a spec vector")
         write(self, name, _made(self, name, getattr(self._ptr, name)), value)
     return property(get, set_value, doc=doc)

@@ -53,7 +53,15 @@ def with_note(error, note):
 
 
 def refusal(kind, text):
-    """The exception for a call the C helper refused before MuJoCo ran (its mjData held)."""
+    """The exception for a call the C helper refused before MuJoCo ran (its mjData or
+    its mjSpec held)."""
+    if kind == lib.MJCFFI_ERROR_SPEC_BUSY:
+        return with_note(RuntimeError(text), "MuJoCo's spec functions keep no lock: two "
+                         "threads on one spec crash the process, so mjcffi refuses the second")
+    if kind == lib.MJCFFI_ERROR_POOL_REENTRY:
+        return with_note(RecursionError(text), "a pool (Rollout, Batch, MjSimPool) waits for "
+                         "the callbacks its threads run, so they may not call it; give the "
+                         "callback a pool of its own")
     if kind == lib.MJCFFI_ERROR_REENTRY:
         return with_note(RecursionError(text),
                          "a callback may read d and call functions that do not restart "
@@ -61,6 +69,14 @@ def refusal(kind, text):
                          "forward or reset the mjData that MuJoCo is computing")
     return with_note(ValueError(text), "mjcffi holds an mjData for each call that writes "
                      "it; MuJoCo's functions keep no lock of their own")
+
+
+def taken_error(message):
+    """The exception for an error whose message (a `const char *`) was taken already
+    with mjcffi_take_error: FatalError, or the refusal of its kind."""
+    text = ffi.string(message).decode("utf-8", "replace")
+    kind = lib.mjcffi_error_kind()
+    return FatalError(text) if kind == lib.MJCFFI_ERROR_FATAL else refusal(kind, text)
 
 
 def raise_pending():

@@ -24,7 +24,7 @@ from .._support import callbacks as _callbacks
 from .._support import contract as _contract
 from .._generated.constants import mjNGROUP
 from .._generated.enums import mjtEq, mjtState, mjtWarning
-from .._support.errors import FatalError, check, raise_pending, with_note
+from .._support.errors import check, raise_pending, taken_error, with_note
 from .._support.library import ffi, lib
 from .._support.views import DTYPES, view
 from ..data import MjData
@@ -184,7 +184,7 @@ class Batch:
             raise _int_error(("nstep", nstep), ("stage", stage)) from None
         message = _take_error()          # raise_pending(), inlined: the hot path
         if message != _NULL:
-            raise FatalError(ffi.string(message).decode("utf-8", "replace"))
+            raise taken_error(message)
         if _contract.pending:          # a Python mju_user_warning, on the batch's threads
             _contract.raise_stashed()
         return failed

@@ -21,6 +21,8 @@ from .._support import mjr as _mjr
 from .._support import loading as _loading
 from .._support import prepared as _p
 from .._support import contract as _contract
+from .._support import stack as _stack
+from .._support import interrupt as _interrupt  # noqa: F401  (Ctrl-C stops nstep loops)
 from .. import warning_errors as _warnings
 from .._generated.enums import mjtObj
 from .._support.errors import ArgumentError, with_note
@@ -108,6 +110,8 @@ def _mj_step(m, d, nstep=1, *, prepare=False):
             status = _step(c_m, c_d, nstep)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_step", {"nstep": ("int", nstep)}) from None
+        if _stack.live:                  # a bad state's reset empties the stack
+            _stack.sweep(d)
         if status or _contract.pending:
             _m.check(status)
     return call
@@ -131,6 +135,8 @@ def mj_step(m, d, nstep=1):
         status = _step(m._ptr, d._ptr, nstep)
     except (TypeError, OverflowError) as exc:
         raise _m.scalar_error(exc, "mj_step", {"nstep": ("int", nstep)}) from None
+    if _stack.live:                      # a bad state's reset empties the stack
+        _stack.sweep(d)
     if status or _contract.pending:
         _m.check(status)
 
@@ -144,6 +150,8 @@ def _step_checked(m, d, nstep):
             status = _step(c_m, c_d, nstep)
         except (TypeError, OverflowError) as exc:
             raise _m.scalar_error(exc, "mj_step", {"nstep": ("int", nstep)}) from None
+        if _stack.live:
+            _stack.sweep(d)
         _m.check(status)
     except BaseException:
         if before is not None:

@@ -7,7 +7,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from .._support import errors as _errors, marshal as _marshal
-from .._support import contract as _contract
+from .._support import contract as _contract, interrupt as _interrupt
 from .. import warning_errors as _warnings
 from .._support.library import ffi, lib
 from ..functions._overrides import mj_forward, mj_step
@@ -54,6 +54,7 @@ class MjSimPool:
         self._threads = Rollout(nthread=self.nthreads) if self.nthreads > 1 else None
         self._executor = None      # Python threads, started on first need
         self._closed = False
+        self._running = False      # a step or forward is under way
 
     @classmethod
     def create_from_sim(cls, sim, nsims):
@@ -115,10 +116,22 @@ class MjSimPool:
     def _run(self, job, sims):
         if not sims:
             return
-        if _contract.python_callbacks or _contract.warnings_as_errors or any(s._substep_python is not None for s in sims):
-            self._run_python(job, sims)
-        else:
-            self._run_c(job is mj_forward, sims)
+        if self._running:
+            raise _errors.with_note(
+                RecursionError(f"MjSimPool.{'forward' if job is mj_forward else 'step'}: this "
+                               f"pool is in a call already (a callback of its sims called "
+                               f"it, or another thread is using it)"),
+                "a pool waits for the callbacks its threads run, so they may not call it; "
+                "an MjSimPool takes one call at a time")
+        self._running = True
+        try:
+            if _contract.python_callbacks or _contract.warnings_as_errors or \
+                    any(s._substep_python is not None for s in sims):
+                self._run_python(job, sims)
+            else:
+                self._run_c(job is mj_forward, sims)
+        finally:
+            self._running = False
 
     def _run_c(self, forward, sims):
         """The sims on the C pool: one guarded call per sim, the GIL released."""
@@ -134,6 +147,10 @@ class MjSimPool:
             ffi.new("mjData*[]", [d for _, d in pairs]),
             ffi.new("mjfGeneric[]", substeps) if any(substeps) else ffi.NULL,
             n, self.nsubsteps, forward, status, message, _MESSAGE_SIZE)
+        if nfailed == -1:                # refused: a callback of this pool's call
+            _errors.raise_pending()
+        if nfailed == -2:                # a SIGINT stopped the steps (interrupt.py)
+            _interrupt.stopped("MjSimPool.step")
         if _contract.pending:
             _contract.raise_stashed()
         if nfailed:
@@ -154,7 +171,12 @@ class MjSimPool:
         shares = [sims[i::n] for i in range(n)]
         futures = [self._executor.submit(_run_share, job, share, self.nsubsteps)
                    for share in shares[1:]]
-        errors = [_run_share(job, shares[0], self.nsubsteps)]
+        try:
+            errors = [_run_share(job, shares[0], self.nsubsteps)]
+        except KeyboardInterrupt:      # Ctrl-C: the other shares end their sims, then it goes on
+            for future in futures:
+                future.cancel() or future.exception()
+            raise
         for future in futures:     # wait for every share, whatever failed
             try:
                 errors.append(future.result())

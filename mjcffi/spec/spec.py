@@ -9,6 +9,7 @@ goes through `lifetime.freeing`, which ends the wrappers of what was freed.
 """
 
 import copy as _copy
+import functools
 import warnings
 
 import numpy as np
@@ -22,6 +23,7 @@ from ..model import MjModel
 from .._support.plugins import load_bundled
 from .._support.views import Nested, view
 from .._support import elements as _elements
+from .._support import spec_claims as _claims
 from ..structs import mjspec as _generated
 from ..structs import mjmodel as _visualize
 from . import attach as _attach
@@ -90,6 +92,18 @@ def _reclass_orphans(c_spec, classed):
     for c_element in classed:
         if _call(lib.mjcffi_guard_mjs_getDefault, c_element) == ffi.NULL:
             _call(lib.mjcffi_guard_mjs_setDefault, c_element, main)
+
+
+def _held(method):
+    """The method holds its spec for its whole run, the calls it makes and what it reads
+    between them (one thread at a time per spec: mjcffi/_support/spec_claims.py)."""
+    what = f"MjSpec.{method.__name__}".encode()
+
+    @functools.wraps(method)
+    def run(self, *args, **kwargs):
+        with _claims.holding(self._ptr, what):
+            return method(self, *args, **kwargs)
+    return run
 
 
 def _label(element):
@@ -208,6 +222,7 @@ class MjSpec(_generated.MjSpec):
         xml = files.pop(models[0]).decode("utf-8")
         return cls.from_string(xml, assets=relative_names(files, posixpath.dirname(models[0])))
 
+    @_held
     def to_zip(self, file):
         """Write the spec (to_xml(), as '<modelname>.xml') and its assets to a zip
         archive: `file` is a path (its folder is made) or a binary file object."""
@@ -311,6 +326,7 @@ class MjSpec(_generated.MjSpec):
             if text:
                 warnings.warn(text, UserWarning, stacklevel=3)
 
+    @_held
     def compile(self, vfs=None):
         """The compiled MjModel.  Assets come from `assets`, or from `vfs` (an MjVfs;
         not both).  MuJoCo's compile error becomes ValueError, its warnings
@@ -329,6 +345,7 @@ class MjSpec(_generated.MjSpec):
         self._warn()
         return model
 
+    @_held
     def recompile(self, m, d, vfs=None):
         """(model, data): the spec compiled again, with the state of `d` (data of
         model `m`) carried over by name, as new objects; `m` and `d` are left as
@@ -396,6 +413,7 @@ class MjSpec(_generated.MjSpec):
             raise _spec_error(self._ptr, function)
         return count
 
+    @_held
     def fuse_static(self, vfs=None):
         """Fuse each static body (no joints, `fuse` not false) with its parent: it
         becomes a frame in the parent, holding what the body held; the wrappers
@@ -404,6 +422,7 @@ class MjSpec(_generated.MjSpec):
         with vfs_pointer(self._assets, vfs) as c_vfs:
             return self._counted("fuse_static", "mjs_fuseStatic", c_vfs)
 
+    @_held
     def discard_visual(self, vfs=None):
         """Discard the visual elements: every material and texture, the geoms that
         neither collide nor are referred to, and the meshes then unused; their
@@ -412,6 +431,7 @@ class MjSpec(_generated.MjSpec):
         with vfs_pointer(self._assets, vfs) as c_vfs:
             return self._counted("discard_visual", "mjs_discardVisual", c_vfs)
 
+    @_held
     def dedup_assets(self):
         """Merge the textures and meshes that would compile to the same asset: the first
         of each group keeps its name, references to the others are rewritten to it
@@ -419,6 +439,7 @@ class MjSpec(_generated.MjSpec):
         merged."""
         return self._counted("dedup_assets", "mjs_dedupAssets")
 
+    @_held
     def adopt_inertial(self, body, vfs=None):
         """Make the inertial that compilation infers for `body` (a body of this spec)
         its explicit inertial.  Assets as in compile()."""
@@ -427,6 +448,7 @@ class MjSpec(_generated.MjSpec):
             if _call(lib.mjcffi_guard_mjs_adoptInertial, c_body, c_vfs) != 0:
                 raise _spec_error(self._ptr, "mjs_adoptInertial")
 
+    @_held
     def copy_back(self, model):
         """Write to the spec the values that were changed in `model`, the model last
         compiled from it, as what compiles to them.  ValueError, with nothing
@@ -437,6 +459,7 @@ class MjSpec(_generated.MjSpec):
 
     # -------------------------------------------------------------- saving
 
+    @_held
     def to_xml(self):
         """The spec as MJCF text.  It compiles the spec first, as the official does
         (see compile(): fusestatic and discardvisual change the spec)."""
@@ -448,6 +471,7 @@ class MjSpec(_generated.MjSpec):
         with open(filename, "w", encoding="utf-8") as file:
             file.write(self.to_xml())
 
+    @_held
     def encode(self, filename, model=None, content_type=None):
         """Write the spec, or `model` compiled from it, to `filename` with the encoder
         registered for its extension or `content_type` (.xml, .mjb, .txt, .mjz).
@@ -466,6 +490,7 @@ class MjSpec(_generated.MjSpec):
 
     # ------------------------------------------------------------- copying
 
+    @_held
     def copy(self):
         """An independent deep copy of the spec (mj_copySpec), with its assets,
         override_assets and parent."""
@@ -520,6 +545,7 @@ class MjSpec(_generated.MjSpec):
         return self._element(_call(lib.mjcffi_guard_mjs_findDefault, self._ptr,
                                    _m.text(classname, "classname")))
 
+    @_held
     def add_default(self, classname, parent=None):
         """A new default class `classname` under `parent` (a default of this spec;
         None: the main one).  ValueError if the name is taken."""
@@ -531,6 +557,7 @@ class MjSpec(_generated.MjSpec):
             raise ValueError(f"default class {classname!r} exists already")
         return self._element(pointer)
 
+    @_held
     def delete(self, element):
         """Remove `element` from the spec: with a body, frame or default, all it holds;
         with them, the elements that refer to what was removed.  The wrappers of
@@ -603,6 +630,7 @@ class MjSpec(_generated.MjSpec):
 
     # ---------------------------------------------------------------- attach
 
+    @_held
     def attach(self, child, prefix=None, suffix=None, site=None, frame=None):
         """Attach spec `child` at `frame` or `site` (an element of this spec or its
         name); its names get `prefix` (default '/') and `suffix`.  Returns the frame

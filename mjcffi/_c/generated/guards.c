@@ -8,6 +8,7 @@
 #include <mujoco/mjbatch.h>
 
 #include "guard_chain.h"
+#include "claims.h"
 #include "guards.h"
 
 int mjcffi_guard_mj_defaultVFS(mjVFS *vfs) {
@@ -259,42 +260,63 @@ mjSpec *mjcffi_guard_mj_parse(const char *filename, const char *content_type, co
 mjtSize mjcffi_guard_mj_encode(const mjSpec *s, const mjModel *m, const char *filename, const char *content_type, const mjVFS *vfs, char *error, int error_sz) {
   mjcffi_guard mjcffi_g;
   mjtSize mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mj_encode")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_encode(s, m, filename, content_type, vfs, error, error_sz);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjModel *mjcffi_guard_mj_compile(mjSpec *s, const mjVFS *vfs) {
   mjcffi_guard mjcffi_g;
   mjModel *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mj_compile")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_compile(s, vfs);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mj_copyBack(mjSpec *s, const mjModel *m) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mj_copyBack")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_copyBack(s, m);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
@@ -305,15 +327,23 @@ int mjcffi_guard_mj_recompile(mjSpec *s, const mjVFS *vfs, mjModel *m, mjData *d
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mj_recompile")) {
+    mjcffi_data_leave(d);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     mjcffi_data_leave(d);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_recompile(s, vfs, m, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   mjcffi_data_leave(d);
   return mjcffi_result;
 }
@@ -375,28 +405,42 @@ int mjcffi_guard_mj_freeLastXML(void) {
 int mjcffi_guard_mj_saveXMLString(const mjSpec *s, char *xml, int xml_sz, char *error, int error_sz) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mj_saveXMLString")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_saveXMLString(s, xml, xml_sz, error, error_sz);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mj_saveXML(const mjSpec *s, const char *filename, char *error, int error_sz) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mj_saveXML")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_saveXML(s, filename, error, error_sz);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
@@ -958,54 +1002,81 @@ mjSpec *mjcffi_guard_mj_makeSpec(void) {
 mjSpec *mjcffi_guard_mj_copySpec(const mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjSpec *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mj_copySpec")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mj_copySpec(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mj_deleteSpec(mjSpec *s) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mj_deleteSpec")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mj_deleteSpec(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_activatePlugin(mjSpec *s, const char *name) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_activatePlugin")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_activatePlugin(s, name);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_setDeepCopy(mjSpec *s, int deepcopy) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setDeepCopy")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setDeepCopy(s, deepcopy);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
@@ -3682,70 +3753,105 @@ int mjcffi_guard_mju_writeLog(const char *type, const char *msg) {
 const char *mjcffi_guard_mjs_getError(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getError")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getError(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const double *mjcffi_guard_mjs_getTimer(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   const double *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getTimer")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getTimer(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_isWarning(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_isWarning")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_isWarning(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_numWarnings(const mjSpec *spec) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = spec;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_numWarnings")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_numWarnings(spec);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_getWarning(const mjSpec *spec, int index) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = spec;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getWarning")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getWarning(spec, index);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
@@ -5549,952 +5655,1580 @@ int mjcffi_guard_mju_threadpool(mjData *d, int nthread) {
 mjsElement *mjcffi_guard_mjs_attach(mjsElement *parent, const mjsElement *child, const char *prefix, const char *suffix) {
   mjcffi_guard mjcffi_g;
   mjsElement *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(parent);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(child);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_attach")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_attach")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_attach(parent, child, prefix, suffix);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsBody *mjcffi_guard_mjs_addBody(mjsBody *body, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsBody *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addBody")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addBody")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addBody(body, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsSite *mjcffi_guard_mjs_addSite(mjsBody *body, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsSite *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addSite")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addSite")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addSite(body, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsJoint *mjcffi_guard_mjs_addJoint(mjsBody *body, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsJoint *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addJoint")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addJoint")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addJoint(body, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsJoint *mjcffi_guard_mjs_addFreeJoint(mjsBody *body) {
   mjcffi_guard mjcffi_g;
   mjsJoint *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addFreeJoint")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addFreeJoint(body);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsGeom *mjcffi_guard_mjs_addGeom(mjsBody *body, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsGeom *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addGeom")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addGeom")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addGeom(body, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsCamera *mjcffi_guard_mjs_addCamera(mjsBody *body, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsCamera *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addCamera")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addCamera")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addCamera(body, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsLight *mjcffi_guard_mjs_addLight(mjsBody *body, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsLight *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addLight")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addLight")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addLight(body, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsFrame *mjcffi_guard_mjs_addFrame(mjsBody *body, mjsFrame *parentframe) {
   mjcffi_guard mjcffi_g;
   mjsFrame *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(parentframe ? parentframe->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addFrame")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addFrame")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addFrame(body, parentframe);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_delete(mjSpec *spec, mjsElement *element) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = spec;
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_delete")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_delete")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_delete(spec, element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsActuator *mjcffi_guard_mjs_addActuator(mjSpec *s, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsActuator *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addActuator")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addActuator")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addActuator(s, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsSensor *mjcffi_guard_mjs_addSensor(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsSensor *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addSensor")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addSensor(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsFlex *mjcffi_guard_mjs_addFlex(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsFlex *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addFlex")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addFlex(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsFlex *mjcffi_guard_mjs_makeFlex(mjsBody *body, const char *name, const char *type, int dim, const char *dof, const int count[3], const int cellcount[3], const double spacing[3], const double scale[3], double radius, double mass, double inertiabox, int equality, int rigid, int flatskin, int elastic2d, const double pos[3], const double quat[4], const double origin[3], const char *file, const mjVFS *vfs) {
   mjcffi_guard mjcffi_g;
   mjsFlex *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_makeFlex")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_makeFlex(body, name, type, dim, dof, count, cellcount, spacing, scale, radius, mass, inertiabox, equality, rigid, flatskin, elastic2d, pos, quat, origin, file, vfs);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsPair *mjcffi_guard_mjs_addPair(mjSpec *s, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsPair *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addPair")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addPair")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addPair(s, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsExclude *mjcffi_guard_mjs_addExclude(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsExclude *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addExclude")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addExclude(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsEquality *mjcffi_guard_mjs_addEquality(mjSpec *s, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsEquality *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addEquality")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addEquality")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addEquality(s, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsTendon *mjcffi_guard_mjs_addTendon(mjSpec *s, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsTendon *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addTendon")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addTendon")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addTendon(s, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsWrap *mjcffi_guard_mjs_wrapSite(mjsTendon *tendon, const char *name) {
   mjcffi_guard mjcffi_g;
   mjsWrap *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(tendon ? tendon->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_wrapSite")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_wrapSite(tendon, name);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsWrap *mjcffi_guard_mjs_wrapGeom(mjsTendon *tendon, const char *name, const char *sidesite) {
   mjcffi_guard mjcffi_g;
   mjsWrap *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(tendon ? tendon->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_wrapGeom")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_wrapGeom(tendon, name, sidesite);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsWrap *mjcffi_guard_mjs_wrapJoint(mjsTendon *tendon, const char *name, double coef) {
   mjcffi_guard mjcffi_g;
   mjsWrap *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(tendon ? tendon->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_wrapJoint")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_wrapJoint(tendon, name, coef);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsWrap *mjcffi_guard_mjs_wrapPulley(mjsTendon *tendon, double divisor) {
   mjcffi_guard mjcffi_g;
   mjsWrap *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(tendon ? tendon->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_wrapPulley")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_wrapPulley(tendon, divisor);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsNumeric *mjcffi_guard_mjs_addNumeric(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsNumeric *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addNumeric")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addNumeric(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsText *mjcffi_guard_mjs_addText(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsText *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addText")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addText(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsTuple *mjcffi_guard_mjs_addTuple(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsTuple *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addTuple")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addTuple(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsKey *mjcffi_guard_mjs_addKey(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsKey *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addKey")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addKey(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsPlugin *mjcffi_guard_mjs_addPlugin(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsPlugin *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addPlugin")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addPlugin(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsDefault *mjcffi_guard_mjs_addDefault(mjSpec *s, const char *classname, const mjsDefault *parent) {
   mjcffi_guard mjcffi_g;
   mjsDefault *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(parent ? parent->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addDefault")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addDefault")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addDefault(s, classname, parent);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToMotor(mjsActuator *actuator) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToMotor")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToMotor(actuator);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToPosition(mjsActuator *actuator, double kp, double kv[1], double dampratio[1], double timeconst[1], double inheritrange) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToPosition")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToPosition(actuator, kp, kv, dampratio, timeconst, inheritrange);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToIntVelocity(mjsActuator *actuator, double kp, double kv[1], double dampratio[1], double timeconst[1], double inheritrange) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToIntVelocity")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToIntVelocity(actuator, kp, kv, dampratio, timeconst, inheritrange);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToVelocity(mjsActuator *actuator, double kv) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToVelocity")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToVelocity(actuator, kv);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToOrientation(mjsActuator *actuator, double kp, double kv[1], double dampratio[1], int ctrlspec) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToOrientation")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToOrientation(actuator, kp, kv, dampratio, ctrlspec);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToPID(mjsActuator *actuator, double kp, double kv[1], double dampratio[1], double ki[1], double imax[1], double slewmax[1], double inheritrange, int ctrlspec) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToPID")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToPID(actuator, kp, kv, dampratio, ki, imax, slewmax, inheritrange, ctrlspec);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToDamper(mjsActuator *actuator, double kv) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToDamper")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToDamper(actuator, kv);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToCylinder(mjsActuator *actuator, double timeconst, double bias, double area, double diameter) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToCylinder")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToCylinder(actuator, timeconst, bias, area, diameter);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToMuscle(mjsActuator *actuator, double timeconst[2], double tausmooth, double range[2], double force, double scale, double lmin, double lmax, double vmax, double fpmax, double fvmax) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToMuscle")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToMuscle(actuator, timeconst, tausmooth, range, force, scale, lmin, lmax, vmax, fpmax, fvmax);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToAdhesion(mjsActuator *actuator, double gain) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToAdhesion")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToAdhesion(actuator, gain);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const char *mjcffi_guard_mjs_setToDCMotor(mjsActuator *actuator, double motorconst[2], double resistance, double nominal[3], double saturation[3], double inductance[2], double cogging[3], double controller[6], double thermal[6], double lugre[5], int ctrlspec) {
   mjcffi_guard mjcffi_g;
   const char *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setToDCMotor")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setToDCMotor(actuator, motorconst, resistance, nominal, saturation, inductance, cogging, controller, thermal, lugre, ctrlspec);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsMesh *mjcffi_guard_mjs_addMesh(mjSpec *s, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsMesh *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addMesh")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addMesh")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addMesh(s, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsHField *mjcffi_guard_mjs_addHField(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsHField *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addHField")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addHField(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsSkin *mjcffi_guard_mjs_addSkin(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsSkin *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addSkin")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addSkin(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsTexture *mjcffi_guard_mjs_addTexture(mjSpec *s, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsTexture *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addTexture")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addTexture")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addTexture(s, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsMaterial *mjcffi_guard_mjs_addMaterial(mjSpec *s, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
   mjsMaterial *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_addMaterial")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_addMaterial")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_addMaterial(s, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_makeMesh(mjsMesh *mesh, mjtMeshBuiltin builtin, double *params, int nparams) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(mesh ? mesh->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_makeMesh")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_makeMesh(mesh, builtin, params, nparams);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjSpec *mjcffi_guard_mjs_getSpec(const mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjSpec *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getSpec")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getSpec(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjSpec *mjcffi_guard_mjs_getOriginSpec(const mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjSpec *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getOriginSpec")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getOriginSpec(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsCompiler *mjcffi_guard_mjs_getCompiler(const mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsCompiler *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getCompiler")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getCompiler(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjSpec *mjcffi_guard_mjs_findSpec(const mjSpec *spec, const char *name) {
   mjcffi_guard mjcffi_g;
   mjSpec *mjcffi_result;
+  const mjSpec* mjcffi_s0 = spec;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_findSpec")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_findSpec(spec, name);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsBody *mjcffi_guard_mjs_findBody(const mjSpec *s, const char *name) {
   mjcffi_guard mjcffi_g;
   mjsBody *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_findBody")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_findBody(s, name);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsElement *mjcffi_guard_mjs_findElement(const mjSpec *s, mjtObj type, const char *name) {
   mjcffi_guard mjcffi_g;
   mjsElement *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_findElement")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_findElement(s, type, name);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsBody *mjcffi_guard_mjs_findChild(const mjsBody *body, const char *name) {
   mjcffi_guard mjcffi_g;
   mjsBody *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_findChild")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_findChild(body, name);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsBody *mjcffi_guard_mjs_getParent(const mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsBody *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getParent")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getParent(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsFrame *mjcffi_guard_mjs_getFrame(const mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsFrame *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getFrame")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getFrame(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsFrame *mjcffi_guard_mjs_findFrame(const mjSpec *s, const char *name) {
   mjcffi_guard mjcffi_g;
   mjsFrame *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_findFrame")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_findFrame(s, name);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsDefault *mjcffi_guard_mjs_getDefault(const mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsDefault *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getDefault")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getDefault(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsDefault *mjcffi_guard_mjs_findDefault(const mjSpec *s, const char *classname) {
   mjcffi_guard mjcffi_g;
   mjsDefault *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_findDefault")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_findDefault(s, classname);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsDefault *mjcffi_guard_mjs_getSpecDefault(const mjSpec *s) {
   mjcffi_guard mjcffi_g;
   mjsDefault *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getSpecDefault")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getSpecDefault(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_getId(const mjsElement *element) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getId")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getId(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsElement *mjcffi_guard_mjs_firstChild(const mjsBody *body, mjtObj type, int recurse) {
   mjcffi_guard mjcffi_g;
   mjsElement *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_firstChild")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_firstChild(body, type, recurse);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsElement *mjcffi_guard_mjs_nextChild(const mjsBody *body, const mjsElement *child, int recurse) {
   mjcffi_guard mjcffi_g;
   mjsElement *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(child);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_nextChild")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_nextChild")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_nextChild(body, child, recurse);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsElement *mjcffi_guard_mjs_firstElement(const mjSpec *s, mjtObj type) {
   mjcffi_guard mjcffi_g;
   mjsElement *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_firstElement")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_firstElement(s, type);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsElement *mjcffi_guard_mjs_nextElement(const mjSpec *s, const mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsElement *mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_nextElement")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_nextElement")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_nextElement(s, element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsElement *mjcffi_guard_mjs_getWrapTarget(const mjsWrap *wrap) {
   mjcffi_guard mjcffi_g;
   mjsElement *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(wrap ? wrap->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getWrapTarget")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getWrapTarget(wrap);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsSite *mjcffi_guard_mjs_getWrapSideSite(const mjsWrap *wrap) {
   mjcffi_guard mjcffi_g;
   mjsSite *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(wrap ? wrap->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getWrapSideSite")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getWrapSideSite(wrap);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 double mjcffi_guard_mjs_getWrapDivisor(const mjsWrap *wrap) {
   mjcffi_guard mjcffi_g;
   double mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(wrap ? wrap->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getWrapDivisor")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getWrapDivisor(wrap);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 double mjcffi_guard_mjs_getWrapCoef(const mjsWrap *wrap) {
   mjcffi_guard mjcffi_g;
   double mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(wrap ? wrap->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getWrapCoef")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getWrapCoef(wrap);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_setName(mjsElement *element, const char *name) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setName")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setName(element, name);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
@@ -6622,27 +7356,40 @@ int mjcffi_guard_mjs_setDouble(mjDoubleVec *dest, const double *array, int size)
 
 int mjcffi_guard_mjs_setPluginAttributes(mjsPlugin *plugin, void *attributes) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(plugin ? plugin->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setPluginAttributes")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_setPluginAttributes(plugin, attributes);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 mjString *mjcffi_guard_mjs_getName(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjString *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getName")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getName(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
@@ -6677,68 +7424,117 @@ const double *mjcffi_guard_mjs_getDouble(const mjDoubleVec *source, int *size) {
 int mjcffi_guard_mjs_getWrapNum(const mjsTendon *tendonspec) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(tendonspec ? tendonspec->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getWrapNum")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getWrapNum(tendonspec);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsWrap *mjcffi_guard_mjs_getWrap(const mjsTendon *tendonspec, int i) {
   mjcffi_guard mjcffi_g;
   mjsWrap *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(tendonspec ? tendonspec->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getWrap")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getWrap(tendonspec, i);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 const void *mjcffi_guard_mjs_getPluginAttributes(const mjsPlugin *plugin) {
   mjcffi_guard mjcffi_g;
   const void *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(plugin ? plugin->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getPluginAttributes")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getPluginAttributes(plugin);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_setDefault(mjsElement *element, const mjsDefault *def) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(def ? def->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setDefault")) {
+    return 1;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_setDefault")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_setDefault(element, def);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_setFrame(mjsElement *dest, mjsFrame *frame) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(dest);
+  const mjSpec* mjcffi_s1 = mjcffi_spec_of(frame ? frame->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setFrame")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
+  if (mjcffi_spec_enter(mjcffi_s1, "mjs_setFrame")) {
+    mjcffi_spec_leave(mjcffi_s0);
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_setFrame(dest, frame);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s1);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
@@ -6759,56 +7555,84 @@ const char *mjcffi_guard_mjs_resolveOrientation(double quat[4], mjtByte degree, 
 int mjcffi_guard_mjs_fuseStatic(mjSpec *s, const mjVFS *vfs) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_fuseStatic")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_fuseStatic(s, vfs);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_discardVisual(mjSpec *s, const mjVFS *vfs) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_discardVisual")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_discardVisual(s, vfs);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_dedupAssets(mjSpec *s) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = s;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_dedupAssets")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_dedupAssets(s);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_adoptInertial(mjsBody *body, const mjVFS *vfs) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_adoptInertial")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_adoptInertial(body, vfs);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
@@ -6828,77 +7652,115 @@ mjsFrame *mjcffi_guard_mjs_bodyToFrame(mjsBody **body) {
 
 int mjcffi_guard_mjs_setUserValue(mjsElement *element, const char *key, const void *data) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setUserValue")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_setUserValue(element, key, data);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_setUserValueWithCleanup(mjsElement *element, const char *key, const void *data, void (*cleanup)(const void *)) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_setUserValueWithCleanup")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_setUserValueWithCleanup(element, key, data, cleanup);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 const void *mjcffi_guard_mjs_getUserValue(mjsElement *element, const char *key) {
   mjcffi_guard mjcffi_g;
   const void *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_getUserValue")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_getUserValue(element, key);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_deleteUserValue(mjsElement *element, const char *key) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_deleteUserValue")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_deleteUserValue(element, key);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_sensorDim(const mjsSensor *sensor) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(sensor ? sensor->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_sensorDim")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_sensorDim(sensor);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjs_defaultSpec(mjSpec *spec) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = spec;
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultSpec")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultSpec(spec);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
@@ -6916,613 +7778,919 @@ int mjcffi_guard_mjs_defaultOrientation(mjsOrientation *orient) {
 
 int mjcffi_guard_mjs_defaultBody(mjsBody *body) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(body ? body->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultBody")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultBody(body);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultFrame(mjsFrame *frame) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(frame ? frame->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultFrame")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultFrame(frame);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultJoint(mjsJoint *joint) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(joint ? joint->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultJoint")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultJoint(joint);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultGeom(mjsGeom *geom) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(geom ? geom->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultGeom")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultGeom(geom);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultSite(mjsSite *site) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(site ? site->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultSite")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultSite(site);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultCamera(mjsCamera *camera) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(camera ? camera->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultCamera")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultCamera(camera);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultLight(mjsLight *light) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(light ? light->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultLight")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultLight(light);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultFlex(mjsFlex *flex) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(flex ? flex->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultFlex")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultFlex(flex);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultMesh(mjsMesh *mesh) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(mesh ? mesh->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultMesh")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultMesh(mesh);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultHField(mjsHField *hfield) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(hfield ? hfield->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultHField")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultHField(hfield);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultSkin(mjsSkin *skin) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(skin ? skin->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultSkin")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultSkin(skin);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultTexture(mjsTexture *texture) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(texture ? texture->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultTexture")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultTexture(texture);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultMaterial(mjsMaterial *material) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(material ? material->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultMaterial")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultMaterial(material);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultPair(mjsPair *pair) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(pair ? pair->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultPair")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultPair(pair);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultEquality(mjsEquality *equality) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(equality ? equality->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultEquality")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultEquality(equality);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultTendon(mjsTendon *tendon) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(tendon ? tendon->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultTendon")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultTendon(tendon);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultActuator(mjsActuator *actuator) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(actuator ? actuator->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultActuator")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultActuator(actuator);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultSensor(mjsSensor *sensor) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(sensor ? sensor->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultSensor")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultSensor(sensor);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultNumeric(mjsNumeric *numeric) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(numeric ? numeric->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultNumeric")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultNumeric(numeric);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultText(mjsText *text) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(text ? text->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultText")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultText(text);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultTuple(mjsTuple *tuple) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(tuple ? tuple->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultTuple")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultTuple(tuple);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultKey(mjsKey *key) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(key ? key->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultKey")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultKey(key);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 int mjcffi_guard_mjs_defaultPlugin(mjsPlugin *plugin) {
   mjcffi_guard mjcffi_g;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(plugin ? plugin->element : NULL);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_defaultPlugin")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     return 1;
   }
   mjs_defaultPlugin(plugin);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return 0;
 }
 
 mjsBody *mjcffi_guard_mjs_asBody(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsBody *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asBody")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asBody(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsGeom *mjcffi_guard_mjs_asGeom(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsGeom *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asGeom")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asGeom(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsJoint *mjcffi_guard_mjs_asJoint(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsJoint *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asJoint")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asJoint(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsSite *mjcffi_guard_mjs_asSite(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsSite *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asSite")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asSite(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsCamera *mjcffi_guard_mjs_asCamera(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsCamera *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asCamera")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asCamera(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsLight *mjcffi_guard_mjs_asLight(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsLight *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asLight")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asLight(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsFrame *mjcffi_guard_mjs_asFrame(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsFrame *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asFrame")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asFrame(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsActuator *mjcffi_guard_mjs_asActuator(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsActuator *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asActuator")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asActuator(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsSensor *mjcffi_guard_mjs_asSensor(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsSensor *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asSensor")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asSensor(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsFlex *mjcffi_guard_mjs_asFlex(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsFlex *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asFlex")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asFlex(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsPair *mjcffi_guard_mjs_asPair(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsPair *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asPair")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asPair(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsEquality *mjcffi_guard_mjs_asEquality(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsEquality *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asEquality")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asEquality(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsExclude *mjcffi_guard_mjs_asExclude(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsExclude *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asExclude")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asExclude(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsTendon *mjcffi_guard_mjs_asTendon(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsTendon *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asTendon")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asTendon(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsNumeric *mjcffi_guard_mjs_asNumeric(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsNumeric *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asNumeric")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asNumeric(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsText *mjcffi_guard_mjs_asText(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsText *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asText")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asText(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsTuple *mjcffi_guard_mjs_asTuple(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsTuple *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asTuple")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asTuple(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsKey *mjcffi_guard_mjs_asKey(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsKey *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asKey")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asKey(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsMesh *mjcffi_guard_mjs_asMesh(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsMesh *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asMesh")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asMesh(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsHField *mjcffi_guard_mjs_asHField(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsHField *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asHField")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asHField(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsSkin *mjcffi_guard_mjs_asSkin(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsSkin *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asSkin")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asSkin(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsTexture *mjcffi_guard_mjs_asTexture(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsTexture *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asTexture")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asTexture(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsMaterial *mjcffi_guard_mjs_asMaterial(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsMaterial *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asMaterial")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asMaterial(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
 mjsPlugin *mjcffi_guard_mjs_asPlugin(mjsElement *element) {
   mjcffi_guard mjcffi_g;
   mjsPlugin *mjcffi_result;
+  const mjSpec* mjcffi_s0 = mjcffi_spec_of(element);
+  if (mjcffi_spec_enter(mjcffi_s0, "mjs_asPlugin")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_spec_leave(mjcffi_s0);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjs_asPlugin(element);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_spec_leave(mjcffi_s0);
   return mjcffi_result;
 }
 
@@ -7554,13 +8722,18 @@ mjBatch *mjcffi_guard_mjb_makeBatch(const mjModel *m, int nsim, const mjBatchCon
 
 int mjcffi_guard_mjb_deleteBatch(mjBatch *b) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_batch_enter(b, "mjb_deleteBatch")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     return 1;
   }
   mjb_deleteBatch(b);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return 0;
 }
 
@@ -7581,84 +8754,120 @@ int mjcffi_guard_mjb_nstate(const mjBatch *b) {
 mjtNum *mjcffi_guard_mjb_state(mjBatch *b) {
   mjcffi_guard mjcffi_g;
   mjtNum *mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_state")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_state(b);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 mjtNum *mjcffi_guard_mjb_stateComponent(mjBatch *b, int component, int *size) {
   mjcffi_guard mjcffi_g;
   mjtNum *mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_stateComponent")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_stateComponent(b, component, size);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 mjWarningStat *mjcffi_guard_mjb_warning(mjBatch *b) {
   mjcffi_guard mjcffi_g;
   mjWarningStat *mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_warning")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_warning(b);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjb_step(mjBatch *b, const int *ids, int nid, int nstep, int stage) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_step")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_step(b, ids, nid, nstep, stage);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjb_forward(mjBatch *b, const int *ids, int nid, int stage) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_forward")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_forward(b, ids, nid, stage);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjb_reset(mjBatch *b, const int *ids, int nid, const int *key, int stage) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_reset")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_reset(b, ids, nid, key, stage);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
@@ -7693,108 +8902,154 @@ const char *mjcffi_guard_mjb_error(const mjBatch *b, int sim) {
 void *mjcffi_guard_mjb_output(mjBatch *b, const char *name, int *size, int *elemsize) {
   mjcffi_guard mjcffi_g;
   void *mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_output")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_output(b, name, size, elemsize);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 void *mjcffi_guard_mjb_expand(mjBatch *b, const char *name, int *size, int *elemsize) {
   mjcffi_guard mjcffi_g;
   void *mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_expand")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_expand(b, name, size, elemsize);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 const void *mjcffi_guard_mjb_expanded(mjBatch *b, const char *name, int *size, int *elemsize) {
   mjcffi_guard mjcffi_g;
   const void *mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_expanded")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_expanded(b, name, size, elemsize);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjb_setConst(mjBatch *b, const int *ids, int nid) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_setConst")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_setConst(b, ids, nid);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjb_setModels(mjBatch *b, const mjModel * const *models) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_batch_enter(b, "mjb_setModels")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     return 1;
   }
   mjb_setModels(b, models);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return 0;
 }
 
 int mjcffi_guard_mjb_rollout(mjBatch *b, const int *ids, int nid, int nstep, const mjtNum *control, int control_spec, const mjBatchRecord *record, int nrecord) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_rollout")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_rollout(b, ids, nid, nstep, control, control_spec, record, nrecord);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjb_apply(mjBatch *b, const int *ids, int nid, mjfBatchFunc func, void *arg, int save) {
   mjcffi_guard mjcffi_g;
   int mjcffi_result;
+  if (mjcffi_batch_enter(b, "mjb_apply")) {
+    memset(&mjcffi_result, 0, sizeof mjcffi_result);
+    return mjcffi_result;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     memset(&mjcffi_result, 0, sizeof mjcffi_result);
     return mjcffi_result;
   }
   mjcffi_result = mjb_apply(b, ids, nid, func, arg, save);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return mjcffi_result;
 }
 
 int mjcffi_guard_mjb_getModel(mjBatch *b, int sim, mjModel *m) {
   mjcffi_guard mjcffi_g;
+  if (mjcffi_batch_enter(b, "mjb_getModel")) {
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
+    mjcffi_batch_leave(b);
     return 1;
   }
   mjb_getModel(b, sim, m);
   mjcffi_guard_leave(&mjcffi_g, 0);
+  mjcffi_batch_leave(b);
   return 0;
 }
 
@@ -7803,15 +9058,21 @@ int mjcffi_guard_mjb_getData(mjBatch *b, int sim, mjData *d) {
   if (mjcffi_data_enter(d, 1, "mjb_getData")) {
     return 1;
   }
+  if (mjcffi_batch_enter(b, "mjb_getData")) {
+    mjcffi_data_leave(d);
+    return 1;
+  }
   mjcffi_guard_enter(&mjcffi_g);
   if (setjmp(mjcffi_g.env)) {
     mjcffi_guard_leave(&mjcffi_g, 1);
     mjcffi_data_leave(d);
+    mjcffi_batch_leave(b);
     return 1;
   }
   mjb_getData(b, sim, d);
   mjcffi_guard_leave(&mjcffi_g, 0);
   mjcffi_data_leave(d);
+  mjcffi_batch_leave(b);
   return 0;
 }
 
