@@ -24,7 +24,8 @@ from . import _ray, _substep
 from ._save import _is_text, _xml_with_key
 from ._callbacks import handle_fatal
 from ._model import SimData, SimModel
-from ._state import EXTRA_SIG, MjSimState, _split_flat
+from ._state import (EXTRA_SIG, MjSimState, _checked_time, _checked_vector,
+                     _real_array, _split_flat)
 from ._warnings import MujocoException, _local
 
 _INT_MAX = 2**31 - 1            # mj_step's nstep is a C int
@@ -234,47 +235,80 @@ class MjSim(SimBase):
         """Write an MjSimState (time, qpos, qvel, act, udd_state, and `extra` when it has
         one) into the sim; nothing is written if a part does not fit this model.
 
+        Every part is checked before any is written: qpos, qvel and act must have
+        exactly (nq,), (nv,) and (na,) real numbers (no broadcasting; act None or empty
+        when na == 0), time must be a real number (NaN and infinity are taken, as
+        mujoco-py took them), udd_state a dict or None (deep-copied first), `extra` the
+        size this model's has.  ValueError for a wrong size or shape, TypeError for a
+        wrong type (strings, complex numbers, ...); the sim is then as it was.
+
         With `extra` (a state from get_state), the steps after it are bit-identical to
         those after the get_state, given the same inputs; without (a state made by hand
         or by from_flattened), the sim's warm start stays, as mujoco-py did."""
         if not isinstance(value, MjSimState):
             raise TypeError(f"value must be an MjSimState, not {type(value).__name__}")
-        extra = self._checked_state(value)
-        d = self.data
-        d.time = value.time
-        d.qpos[:] = value.qpos
-        d.qvel[:] = value.qvel
-        if self.model.na:
-            d.act[:] = value.act
+        time, qpos, qvel, act, udd_state, extra = self._checked_state(value)
+        # every part was checked and copied above: nothing below refuses.  The C call
+        # first (its parts are none of the five), then plain stores that cannot fail.
+        m, d = self.model, self.data
         if extra is not None:
             mj_setState(self.model, d, extra, EXTRA_SIG)
-        self.udd_state = copy.deepcopy(value.udd_state) if value.udd_state else {}
+        d.time = time
+        if m.nq:
+            d.qpos[:] = qpos
+        if m.nv:
+            d.qvel[:] = qvel
+        if m.na:
+            d.act[:] = act
+        self.udd_state = udd_state
 
     def _checked_state(self, value):
-        """ValueError unless `value`'s parts fit this model; its `extra` as float64."""
+        """`value`'s parts checked against this model and copied, ready to write: time
+        (a float), qpos, qvel, act (float64 vectors; act None when na == 0), udd_state (a
+        deep copy, {} for None) and extra (float64, or None); else ValueError for a
+        size or shape, TypeError for a type, naming the part."""
         m = self.model
-        if np.shape(value.qpos) != (m.nq,) or np.shape(value.qvel) != (m.nv,):
-            raise ValueError("the state's qpos/qvel sizes do not match this model")
-        if m.na and value.act is None:
-            raise ValueError(f"the state has no act, and this model has na={m.na}")
-        if value.extra is None:
-            return None
-        extra = np.asarray(value.extra, dtype=np.float64)
-        size = mj_stateSize(m, EXTRA_SIG)
-        if extra.shape != (size,):
-            raise ValueError(f"the state's extra has shape {extra.shape}, and this model's "
-                             f"has ({size},): a state of another model?")
-        return extra
+        time = _checked_time(value.time)
+        qpos = _checked_vector(value.qpos, "the state's qpos", m.nq)
+        qvel = _checked_vector(value.qvel, "the state's qvel", m.nv)
+        if value.act is None:
+            if m.na:
+                raise ValueError(f"the state has no act, and this model has na={m.na}")
+            act = None
+        else:
+            act = _checked_vector(value.act, "the state's act", m.na)
+            act = act if m.na else None
+        extra = None
+        if value.extra is not None:
+            extra = _real_array(value.extra, "the state's extra")
+            size = mj_stateSize(m, EXTRA_SIG)
+            if extra.shape != (size,):
+                raise ValueError(f"the state's extra has shape {extra.shape}, and this "
+                                 f"model's has ({size},): a state of another model?")
+            extra = np.ascontiguousarray(extra, dtype=np.float64)
+        udd_state = value.udd_state
+        if udd_state is not None and not isinstance(udd_state, dict):
+            raise TypeError(f"the state's udd_state must be a dict or None, not "
+                            f"{type(udd_state).__name__}")
+        try:
+            udd_state = copy.deepcopy(udd_state) if udd_state else {}
+        except (TypeError, copy.Error) as exc:
+            raise TypeError(f"the state's udd_state cannot be copied: {exc}") from exc
+        return time, qpos, qvel, act, udd_state, extra
 
     def set_state_from_flattened(self, value):
         """Write a flattened state (MjSimState.flatten) straight into the sim.
 
-        The udd_state values are views of `value`, not copies."""
-        time, qpos, qvel, act, udd_state = _split_flat(value, self)
-        d = self.data
+        Nothing is written unless `value` is one vector of real numbers of exactly
+        the size of this sim's state (TypeError, ValueError).  The udd_state values
+        are views of `value`, not copies."""
+        time, qpos, qvel, act, udd_state = _split_flat(value, self)   # checked: see there
+        m, d = self.model, self.data
         d.time = time
-        d.qpos[:] = qpos
-        d.qvel[:] = qvel
+        if m.nq:
+            d.qpos[:] = qpos
+        if m.nv:
+            d.qvel[:] = qvel
         if act is not None:
             d.act[:] = act
         self.udd_state = udd_state

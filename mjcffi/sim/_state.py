@@ -101,10 +101,13 @@ def _same_udd(a, b):
 
 
 def _split_flat(array, sim):
-    """The parts of a flattened state, as views of `array` (udd scalars as floats)."""
+    """The parts of a flattened state, as views of `array` (udd scalars as floats).
+
+    TypeError unless `array` holds real numbers; ValueError unless it is one vector of
+    exactly the numbers a state of `sim` has (nothing is split from a wrong one)."""
     if not isinstance(sim, SimBase):
         raise TypeError(f"sim must be an MjSim, not {type(sim).__name__}")
-    array = np.asarray(array, dtype=np.float64)
+    array = _real_array(array, "the flattened state").astype(np.float64, copy=False)
     nq, nv, na = sim.model.nq, sim.model.nv, sim.model.na
     udd = [(key, np.shape(sim.udd_state[key])) for key in sorted(sim.udd_state)]
     size = 1 + nq + nv + na + sum(int(np.prod(shape)) for _, shape in udd)
@@ -126,3 +129,49 @@ def _split_flat(array, sim):
             udd_state[key], at = array[at:at + n].reshape(shape), at + n
     return array[0], qpos, qvel, act, udd_state
 
+
+# -- the checks of a state's parts, made before a setter writes any
+
+_REAL_KINDS = "biuf"        # bool, int, unsigned, float: what casts to float64 by value
+
+
+def _real_array(value, what):
+    """`value` as a numpy array of real numbers; TypeError for strings, complex numbers,
+    objects (None included), ValueError for a ragged nesting."""
+    try:
+        array = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{what} is no array of numbers: {exc}") from None
+    if array.dtype.kind not in _REAL_KINDS:
+        raise TypeError(f"{what} must hold real numbers (bool, int or float), not "
+                        f"{type(value).__name__} of dtype {array.dtype}")
+    return array
+
+
+def _checked_vector(value, what, size):
+    """`value` as a float64 vector of exactly `size` numbers (a copy), or TypeError /
+    ValueError naming `what` and both shapes: no broadcasting, no flattening."""
+    array = _real_array(value, what)
+    if array.shape != (size,):
+        raise ValueError(f"{what} has shape {array.shape}, and this model's has ({size},)")
+    return np.array(array, dtype=np.float64)
+
+
+def _checked_time(value):
+    """`value` as a float: a real number (NaN and infinity included, as mujoco-py took
+    them) or a 0-d array of one; TypeError for a string, a complex number, None."""
+    if isinstance(value, (np.ndarray, np.generic)):
+        if value.shape != ():
+            raise ValueError(f"the state's time must be a number, not an array of shape "
+                             f"{value.shape}")
+        if value.dtype.kind not in _REAL_KINDS:
+            raise TypeError(f"the state's time must be a real number, not {value.dtype}")
+    elif isinstance(value, (str, bytes, complex)) or value is None:
+        raise TypeError(f"the state's time must be a real number, not {type(value).__name__}")
+    try:
+        return float(value)
+    except TypeError:
+        raise TypeError(f"the state's time must be a real number, not "
+                        f"{type(value).__name__}") from None
+    except OverflowError:
+        raise ValueError("the state's time is out of range for a C double") from None
