@@ -15,7 +15,7 @@ import numpy as np
 
 import mjcffi
 from mjcffi import scenes
-
+from mjcffi._cli import load_model, positive_int
 
 def _controls(nu, nstep, seed=0):
     return np.random.default_rng(seed).uniform(-1.0, 1.0, size=(nstep, nu))
@@ -40,27 +40,32 @@ def _steps_per_second(module, m, d, nstep):
     return nstep / (time.perf_counter() - start)
 
 
-def _load(module, xml_path):
-    if xml_path:
-        return module.MjModel.from_xml_path(xml_path)
-    return module.MjModel.from_xml_string(scenes.DEFAULT)
+def _load(module, path):
+    """`module`'s MjModel of the file at `path` (as load_model reads it), or of the default."""
+    if not path:
+        return module.MjModel.from_xml_string(scenes.DEFAULT)
+    if path.lower().endswith(".mjb"):
+        return module.MjModel.from_binary_path(path)
+    return module.MjModel.from_xml_path(path)
 
 
 def main(argv=None):
+    """Run the comparison; 0 if the trajectories are bit-identical, else 1 (2: bad input)."""
     parser = argparse.ArgumentParser(prog="python -m mjcffi", description=__doc__.splitlines()[0])
-    parser.add_argument("--xml", help="MJCF file to simulate (default: the embedded scene)")
-    parser.add_argument("--steps", type=int, default=2000, help="steps per timing round")
-    parser.add_argument("--rounds", type=int, default=7, help="interleaved timing rounds")
+    parser.add_argument("--xml",
+                        help="MJCF (or .mjb) file to simulate (default: the embedded scene)")
+    parser.add_argument("--steps", type=positive_int, default=2000,
+                        help="steps per timing round")
+    parser.add_argument("--rounds", type=positive_int, default=7,
+                        help="interleaved timing rounds")
     args = parser.parse_args(argv)
-    if args.steps < 1 or args.rounds < 1:
-        parser.error("--steps and --rounds must be positive")
+    try:
+        ours = load_model(args.xml) if args.xml else _load(mjcffi, None)
+    except ValueError as error:
+        parser.error(f"argument --xml: {error}")
 
     import mujoco  # type: ignore[import-untyped]  # the official bindings (mujoco-core)
 
-    try:
-        ours = _load(mjcffi, args.xml)
-    except ValueError as exc:
-        parser.exit(2, f"python -m mjcffi: cannot load {args.xml}: {exc}\n")
     theirs = _load(mujoco, args.xml)
     our_data, their_data = mjcffi.MjData(ours), mujoco.MjData(theirs)
     name = args.xml or "embedded default scene"

@@ -16,7 +16,7 @@ core shared with mjcffi.tune (which measures local error per control period inst
 
 Writes ACCURACY.md (a table per scene, the cheapest setting within the error budget) and
 accuracy.png (error against steps/s, Pareto front marked; needs matplotlib, the `plot` extra)
-into --out (default: benchmarks/ beside this package, else the current directory).
+into --out (default: the current directory; made if missing).
 With --ray the trajectory runs go to Ray tasks (mjcffi.distributed); the timing stays local.
 """
 
@@ -31,6 +31,7 @@ import numpy as np
 
 import mjcffi as mujoco
 from mjcffi import scenes
+from mjcffi._cli import check_ray, check_writable, positive
 from mjcffi._support.machine import environment
 from mjcffi.evaluation import REF_FACTOR, Setting, position_error, reference_setting
 from mjcffi.evaluation import steps_per_second as _steps_per_second
@@ -439,21 +440,48 @@ def plot(results, path):
     return None
 
 
-def default_out():
-    here = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "benchmarks")
-    return here if os.path.isdir(here) else "."
+REPORT_FILES = ("ACCURACY.md", "accuracy.png")
+
+
+def unwritable_folder(path):
+    """Why the report cannot be written into folder `path` (made if missing), or None.
+    Creates nothing."""
+    existing = os.path.abspath(path)
+    while not os.path.exists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        return f"{existing} is not a folder"
+    if not os.access(existing, os.W_OK | os.X_OK):
+        return "permission denied"
+    return None
+
+
+def _checked_out(p, out):
+    """parser.error unless the report can be written into `out`; then make the folder."""
+    reason = unwritable_folder(out)
+    if reason:
+        p.error(f"argument --out: cannot write into {out}: {reason}")
+    if os.path.isdir(out):          # the files there, if any, must be overwritable
+        for name in REPORT_FILES:
+            check_writable(p, "--out", os.path.join(out, name))
+    try:
+        os.makedirs(out, exist_ok=True)
+    except OSError as error:
+        p.error(f"argument --out: cannot make {out}: {error.strerror}")
 
 
 def main(argv=None):
+    """Run the sweep on the chosen scenes and write the report; 0 on success, 2 on bad input."""
     names = list(all_scenes())
     p = argparse.ArgumentParser(prog="python -m mjcffi.accuracy",
                                 description=__doc__.split("\n")[0])
     p.add_argument("scenes", nargs="*", metavar="SCENE",
                    help=f"scenes to run (default: all): {', '.join(names)}")
-    p.add_argument("--budget", type=float, default=DEFAULT_BUDGET,
+    p.add_argument("--budget", type=positive, default=DEFAULT_BUDGET,
                    help="position error budget in the scene's units "
-                        "(m and rad; default %(default)g)")
-    p.add_argument("--out", default=None, help="folder for ACCURACY.md and accuracy.png")
+                        "(m and rad, positive; default %(default)g)")
+    p.add_argument("--out", default=os.curdir,
+                   help="folder for ACCURACY.md and accuracy.png (default: the current one)")
     p.add_argument("--quick", action="store_true",
                    help="a small sweep (Euler and RK4, three timesteps, no solver sweep)")
     p.add_argument("--ray", action="store_true",
@@ -468,8 +496,10 @@ def main(argv=None):
         if name not in catalogue:
             p.error(f"unknown scene {name!r}; choose from {', '.join(catalogue)}"
                     + ("" if "humanoid" in catalogue else " (humanoid needs gymnasium)"))
-    out = args.out or default_out()
-    os.makedirs(out, exist_ok=True)
+    if args.ray:
+        check_ray(p)
+    out = args.out or os.curdir
+    _checked_out(p, out)
 
     started = time.perf_counter()
     results = []

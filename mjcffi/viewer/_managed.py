@@ -12,6 +12,7 @@ mjv_applyPerturbForce apply it (paused, the pose moves the body itself).
 """
 
 import os
+import sys
 import time
 
 import glfw
@@ -127,8 +128,7 @@ class Simulation:
         try:
             model, data = loader()
         except Exception as error:        # noqa: BLE001  (the viewer stays up)
-            report("loading the model")
-            self.viewer.message = f"load failed: {error}".splitlines()[0][:200]
+            self._load_failed(loader, error)
             return
         self.model, self.data = model, data
         mj_forward(model, data)
@@ -138,6 +138,17 @@ class Simulation:
         self.viewer.window.set_title(f"{os.path.basename(path)} - MuJoCo (mjcffi)" if path
                                      else self.viewer.title)
         self._sync_wall = None
+
+    def _load_failed(self, loader, error):
+        """Show why the model did not load, in the window and on stderr: one line when
+        MuJoCo rejected a file (the user's error), with the traceback otherwise (a bug)."""
+        text = "; ".join(line.strip() for line in str(error).splitlines() if line.strip())
+        path = getattr(loader, "path", None)
+        if isinstance(error, ValueError) and path:
+            print(f"mjcffi.viewer: cannot load {path}: {text}", file=sys.stderr, flush=True)
+        else:
+            report("loading the model")
+        self.viewer.message = f"load failed: {text}"[:200]
 
     # ------------------------------------------------------------ physics
 
