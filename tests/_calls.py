@@ -14,6 +14,8 @@ every argument, without running MuJoCo.
 
 import contextlib
 import inspect
+import os
+import tempfile
 
 import numpy as np
 
@@ -236,8 +238,11 @@ def valid_call(func, env):
 # ------------------------------------------------------------ every function
 
 # Text arguments by name (others get "x"): valid for the calls below.
-TEXTS = {"xml": XML, "content_type": "text/xml", "filename": "scratch_file.xml",
-         "name": "x", "classname": "main", "directory": ".", "filepath": "scratch_file.xml"}
+# The scratch file lives in the temporary directory: functions such as
+# mj_saveLastXML write it, and a test must not write into the source tree.
+SCRATCH = os.path.join(tempfile.gettempdir(), "mjcffi_scratch_file.xml")
+TEXTS = {"xml": XML, "content_type": "text/xml", "filename": SCRATCH,
+         "name": "x", "classname": "main", "directory": ".", "filepath": SCRATCH}
 
 # Functions that full_call leaves out, and why.
 FULL_SKIP = {

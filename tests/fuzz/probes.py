@@ -525,6 +525,174 @@ def rollout_bad_inputs():
 
 # -------------------------------------------------------------- running
 
+
+
+# ------------------------------------------- issue 27: const, pointers, specs, pools
+
+def _const_results():
+    """(name, result) of every function the metadata says returns a const struct pointer,
+    called validly (the fuzzer's own valid call), and the plugin table's every slot."""
+    import mjcffi
+    from mjcffi._generated.funcinfo import FUNCTIONS
+    from .env import Env
+    from .functions import FunctionTarget
+    env, found = Env(), []
+    for name, info in sorted(FUNCTIONS.items()):
+        if not (info.restype.startswith("const mj") and info.restype.endswith("*")):
+            continue
+        try:
+            target = FunctionTarget(name)
+            found.append((name, target.call(env, target.valid(env))))
+        except _documented():
+            pass
+    for slot in range(mjcffi.mjp_pluginCount()):
+        found.append(("mjp_getPluginAtSlot", mjcffi.mjp_getPluginAtSlot(slot)))
+    return [(name, result) for name, result in found if hasattr(result, "_cname")]
+
+
+@probe("issue 27", expect="clean")
+def const_results_written():
+    """every field of every const struct a function returns (the global plugin table,
+    found from the metadata) written with 0, -5 and 10**6; then a pid model loads"""
+    import mjcffi
+    results = _const_results()
+    if not any(name == "mjp_getPluginAtSlot" for name, _ in results):
+        raise ProbeFailure("no plugin table to write into")
+    for name, result in results:
+        size = mjcffi.ffi.sizeof(result._cname)
+        before = bytes(mjcffi.ffi.buffer(result._ptr, size))
+        for field in result._fields:
+            for value in (0, -5, 10**6):
+                try:
+                    setattr(result, field, value)
+                except AttributeError:
+                    continue
+                raise ProbeFailure(f"{name}(): {result._cname}.{field} = {value} was written")
+        if bytes(mjcffi.ffi.buffer(result._ptr, size)) != before:
+            raise ProbeFailure(f"{name}(): MuJoCo's const {result._cname} changed")
+    mjcffi.MjModel.from_xml_string(
+        "<mujoco><extension><plugin plugin='mujoco.pid'/></extension><worldbody><body>"
+        "<joint name='j'/><geom size='.1' mass='1'/></body></worldbody><actuator><plugin "
+        "plugin='mujoco.pid' joint='j'><config key='kp' value='1'/></plugin></actuator>"
+        "</mujoco>")
+
+
+@probe("issue 27", expect="clean")
+def pointer_results_indexed():
+    """every function returning a pointer to numbers, called validly, its result indexed
+    at its size, 10**9 and -10**9 (read and write), and again after the call that
+    releases it"""
+    import numpy as np
+    import mjcffi
+    from mjcffi._generated.funcinfo import FUNCTIONS
+    from .env import Env
+    from .functions import FunctionTarget
+    env = Env()
+    numbers = ("mjtNum *", "int *", "void *", "const mjtNum *", "const int *",
+               "const double *")
+    for name, info in sorted(FUNCTIONS.items()):
+        if info.restype not in numbers or name in ("mju_malloc",):
+            continue
+        try:
+            target = FunctionTarget(name)
+            result = target.call(env, target.valid(env))
+        except _documented():
+            continue
+        if result is None:
+            continue
+        if not isinstance(result, np.ndarray):
+            raise ProbeFailure(f"{name}() returned {type(result).__name__}, not an array")
+        for index in (result.size, 10**9, -10**9):
+            for access in (lambda: result[index], lambda: result.__setitem__(index, 1)):
+                try:
+                    access()
+                except IndexError:
+                    continue
+                raise ProbeFailure(f"{name}()[{index}] reached memory past the array")
+    m, d = _model()
+    mjcffi.mj_markStack(d)
+    array = mjcffi.mj_stackAllocNum(d, 4)
+    mjcffi.mj_freeStack(d)
+    try:
+        array[0] = 1.0
+    except ValueError:
+        return
+    raise ProbeFailure("a released stack array was still writable")
+
+
+@probe("issue 27", expect="clean")
+def spec_two_threads():
+    """compile, to_xml, copy and element edits of one spec on three threads at once, 20
+    rounds each: every call completes or raises RuntimeError"""
+    import mjcffi
+    from .env import XML
+    spec = mjcffi.MjSpec.from_string(XML)
+    unexpected = []
+
+    def edit(spec):
+        spec.worldbody.add_body(name=None).add_geom(size=[.1, 0, 0])
+        spec.bodies[-1].name = "b"
+        spec.delete(spec.bodies[-1])
+
+    def work(action):
+        for _ in range(20):
+            try:
+                action(spec)
+            except RuntimeError:
+                pass
+            except BaseException as exc:
+                unexpected.append(exc)
+    actions = (lambda s: s.compile(), lambda s: s.to_xml(), lambda s: (s.copy(), edit(s)))
+    threads = [threading.Thread(target=work, args=(a,)) for a in actions]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    if unexpected:
+        raise unexpected[0]
+
+
+@probe("issue 27", expect="clean")
+def pool_reentered_from_callback():
+    """a control callback calling its own Rollout (0 and 2 threads) and MjSimPool, and a
+    Python warning handler calling its own Batch: each re-entry raises RecursionError,
+    and nothing waits forever"""
+    import numpy as np
+    import mjcffi
+    from mjcffi import batch, rollout, sim
+    m, d = _model()
+    n = mjcffi.mj_stateSize(m, mjcffi.mjtState.mjSTATE_FULLPHYSICS)
+    outcomes = []
+
+    def reenter(call):
+        def callback(m_, d_):
+            if len(outcomes) < 50:
+                try:
+                    call()
+                    outcomes.append("completed")
+                except RecursionError:
+                    outcomes.append("refused")
+        return callback
+    try:
+        for nthread in (0, 2):
+            pool = rollout.Rollout(nthread=nthread)
+            datas = [mjcffi.MjData(m) for _ in range(max(nthread, 1))]
+            mjcffi.set_mjcb_control(reenter(lambda: pool.rollout(m, datas, np.zeros((1, n)),
+                                                                 nstep=1)))
+            pool.rollout(m, datas, np.zeros((4, n)), nstep=2)
+        sims = sim.MjSimPool([sim.MjSim(m) for _ in range(2)], nthreads=2)
+        mjcffi.set_mjcb_control(reenter(sims.step))
+        sims.step()
+        mjcffi.set_mjcb_control(None)
+        with batch.Batch(m, 2, nthread=2) as b:
+            mjcffi.set_mju_user_warning(lambda text: reenter(b.step)(None, None))
+            b.state[:, 1] = np.nan
+            b.step()
+    finally:
+        mjcffi.set_mjcb_control(None)
+        mjcffi.set_mju_user_warning(None)
+    if not outcomes or set(outcomes) != {"refused"}:
+        raise ProbeFailure(f"re-entries gave {sorted(set(outcomes))}, not only RecursionError")
 @dataclass
 class ProbeResult:
     name: str
