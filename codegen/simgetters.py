@@ -62,7 +62,7 @@ DATA_ALIASES = {"camera": "cam"}
 
 # What the generated methods call, from the hand-written mjcffi/sim/_getter_support.py.
 _SUPPORT = ('UnknownIdError', 'UnknownNameError', '_addr', '_all_names', '_camera_jacobian',
-            '_get', '_id', '_jacobian', '_jacobians', '_mocap_id', '_name', '_set',
+            '_get', '_id', '_jacobian', '_jacobians', '_mocap_id', '_name', '_name_dicts', '_set',
             '_set_row', '_set_userdata_names', '_span', '_userdata_id', '_userdata_name',
             '_userdata_names', '_velocity')
 
@@ -93,6 +93,15 @@ def _model_methods(cats, model_fields):
         lines += _method(f"{public}_names", "self",
                          f"The names of the {public} elements in id order (None where unnamed).",
                          [f"return _all_names(self, {category!r})"])
+        # mujoco-py's PyMjModel kept these dicts, and environment code reads them
+        lines += ["    @property"]
+        lines += _method(f"_{public}_name2id", "self",
+                         f"{{name: id}} of the named {public} elements (mujoco-py's dict).",
+                         [f"return _name_dicts(self, {category!r})[0]"])
+        lines += ["    @property"]
+        lines += _method(f"_{public}_id2name", "self",
+                         f"{{id: name}} of every {public}, None where unnamed (mujoco-py's dict).",
+                         [f"return _name_dicts(self, {category!r})[1]"])
     for what, dofs in (("qpos", "qpos"), ("qvel", "qvel and qacc")):
         lines += _method(f"get_joint_{what}_addr", "self, name",
                          f"Where joint `name` lies in {dofs}: an int for a 1-wide joint, else "

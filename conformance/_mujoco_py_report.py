@@ -64,8 +64,9 @@ _INTRO = (
     "Written by `python -m conformance mujoco_py --write`. The test files of mujoco-py "
     f"{wheel.VERSION}'s wheel (downloaded from PyPI with pip into `~/.cache/mjcffi/`) are "
     "extracted into a temporary folder, never into this repository, beside a `mujoco_py` "
-    "package that is mjcffi.sim (`conformance/_mujoco_py_alias.py`: `mujoco_py.const` is "
-    "`mjcffi.sim.const`, and so on); each file runs in its own pytest process. "
+    "package that calls `mjcffi.sim.install_as_mujoco_py()`, as a user would "
+    "(`conformance/_mujoco_py_alias.py`): `mujoco_py` is then mjcffi.sim and every mujoco-py "
+    "module path gives mjcffi's module; each file runs in its own pytest process. "
     "`tests/test_conformance_mujoco_py.py` fails if a file passes fewer tests than this table "
     "says.")
 

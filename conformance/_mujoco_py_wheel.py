@@ -4,7 +4,7 @@ The wheel is downloaded once with pip into ~/.cache/mjcffi/ (or
 $XDG_CACHE_HOME/mjcffi/) and checked against the SHA-256 below.  Its
 `mujoco_py/tests/*.py` and XML files are extracted into a temporary folder,
 never into this repository, beside a `mujoco_py/__init__.py` that maps
-mujoco-py's modules to mjcffi.sim (conformance/_mujoco_py_alias.py).
+mujoco-py's package to mjcffi.sim (conformance/_mujoco_py_alias.py).
 """
 
 import ast

@@ -19,7 +19,11 @@ from ._generated.enums import *  # noqa: F401,F403
 from ._support.errors import ArgumentError, FatalError, IdError  # noqa: F401
 from ._support.library import ffi, lib  # noqa: F401
 
-__version__ = "0.1.0"
+# What code means by `mujoco.__version__`: the version of MuJoCo itself (the official
+# bindings share MuJoCo's), so version-gated code takes its MuJoCo 4 path.  mjcffi's
+# own version, also in the package metadata, is __mjcffi_version__.
+__version__ = ffi.string(lib.mj_versionString()).decode()
+__mjcffi_version__ = "0.1.0"
 
 # public name -> module that defines it, imported on first use
 _LAZY = {

@@ -58,6 +58,7 @@ from .warning_errors import (MjWarningError as MjWarningError,
 from .spec import MjSpec as MjSpec, from_zip as from_zip, to_zip as to_zip
 
 __version__: str
+__mjcffi_version__: str
 
 # mjcffi/_support/plugins.py: the bundled plugin libraries, loaded on first use
 import ctypes as _ctypes

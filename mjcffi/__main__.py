@@ -69,7 +69,7 @@ def main(argv=None):
     theirs = _load(mujoco, args.xml)
     our_data, their_data = mjcffi.MjData(ours), mujoco.MjData(theirs)
     name = args.xml or "embedded default scene"
-    print(f"mjcffi {mjcffi.__version__} on MuJoCo {mjcffi.mj_versionString()}: {name} "
+    print(f"mjcffi {mjcffi.__mjcffi_version__} on MuJoCo {mjcffi.__version__}: {name} "
           f"(nq={ours.nq}, nv={ours.nv}, nu={ours.nu})")
 
     controls = _controls(ours.nu, args.steps)

@@ -256,9 +256,10 @@ def mj_name2id(m, type, name):
 
 def forget_names(model):
     """Drop what a model wrapper remembers of its names (the mj_name2id memo, the named
-    accessors), for when its mjModel is overwritten in place."""
+    accessors, mujoco-py's name tuples and dicts), for when its mjModel is overwritten
+    in place."""
     state = getattr(model, "__dict__", {})
-    for cache in ("_name2id", "_name_ids", "_named", "_named_ids"):
+    for cache in ("_name2id", "_name_ids", "_named", "_named_ids", "_sim_names"):
         state.pop(cache, None)
 
 

@@ -28,7 +28,8 @@ mujoco-py's viewers, `MjViewer` and `MjViewerBasic` (a window drawn by
 from there on first use, so that importing this module needs no glfw.
 
 This package is the whole mujoco-py face, at mujoco-py's module paths (`const`,
-`functions`, `cymj`, `modder`, `mjviewer`, `mjrenderpool`, `generated`): the sim
+`functions`, `cymj`, `modder`, `mjviewer`, `mjrenderpool`, `generated`, `builder`,
+`utils`, `version`; `install_as_mujoco_py()` makes `import mujoco_py` give them): the sim
 and its state (`_sim`, `_state`, `_base`, `_pool`, `_substep`, `_pid`, `_ray`,
 `_save`), its model and data (`_model`, `_vfs`, the generated getters of
 `generated/getters.py` and what they call, `_getter_support`), its error and
@@ -38,7 +39,8 @@ mjcffi/_c/sim_pid.c, with the rest of the package's C.
 
 import importlib
 
-from .. import __version__
+from .version import __version__, get_version
+from ._install import install_as_mujoco_py
 from .modder import MaterialModder, TextureModder
 from ._render import MjRenderContext, MjRenderContextOffscreen
 from . import const, functions
@@ -56,12 +58,7 @@ __all__ = ["SimModel", "SimData", "MjSim", "MjSimState", "MjSimPool", "MujocoExc
            "MjRenderContextWindow", "MjRenderPool", "MjViewer", "MjViewerBasic",
            "GlfwContext", "TextureModder", "MaterialModder", "const", "functions",
            "set_error_callback", "set_warning_callback", "wrap_mujoco_warning",
-           "__version__", "get_version"]
-
-
-def get_version():
-    """mjcffi's version (mujoco-py's get_version gave its own)."""
-    return __version__
+           "__version__", "get_version", "install_as_mujoco_py"]
 
 
 # imported when first asked for: the viewers need glfw, the render pool multiprocessing;
@@ -72,7 +69,7 @@ _LAZY = {"MjViewer": (".mjviewer", "MjViewer"),
          # mujoco-py's builder.build_callback_fn: C code to a substep_callback address
          "build_callback_fn": ("._substep", "build_callback_fn")}
 _FROM_CYMJ = ("MjRenderContextWindow", "GlfwContext")
-_SUBMODULES = ("cymj", "modder")     # mujoco-py's, reachable as attributes
+_SUBMODULES = ("cymj", "modder", "builder", "utils")  # mujoco-py's, reachable as attributes
 
 
 def __getattr__(name):

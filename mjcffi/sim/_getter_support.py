@@ -56,6 +56,19 @@ def _all_names(model, category):
     return names
 
 
+def _name_dicts(model, category):
+    """({name: id}, {id: name or None}): mujoco-py's `_<kind>_name2id` and
+    `_<kind>_id2name`, made once per model, the same dicts on every read."""
+    cache = model.__dict__.setdefault("_sim_names", {})
+    dicts = cache.get((category, "dicts"))
+    if dicts is None:
+        count = getattr(model, CATEGORIES[category].size)
+        id2name = {i: _name_of(model, category, i) or None for i in range(count)}
+        name2id = {name: i for i, name in id2name.items() if name is not None}
+        dicts = cache[(category, "dicts")] = (name2id, id2name)
+    return dicts
+
+
 def _span(model, joint_id, what):
     """(start, width) of a joint in qpos or qvel."""
     start, width = _joint_span(model._ptr, joint_id, "qpos" if what == "qpos" else "dof")

@@ -12,8 +12,8 @@ as it is now, with the positions of the last mj_forward (or mj_step).
 from ..._functions import mj_jac, mj_jacBody, mj_jacGeom, mj_jacSite
 from .._getter_support import (  # noqa: F401  (the errors: for users)
     UnknownIdError, UnknownNameError, _addr, _all_names, _camera_jacobian, _get, _id,
-    _jacobian, _jacobians, _mocap_id, _name, _set, _set_row, _set_userdata_names, _span,
-    _userdata_id, _userdata_name, _userdata_names, _velocity)
+    _jacobian, _jacobians, _mocap_id, _name, _name_dicts, _set, _set_row,
+    _set_userdata_names, _span, _userdata_id, _userdata_name, _userdata_names, _velocity)
 
 
 class SimModelGetters:
@@ -32,6 +32,16 @@ class SimModelGetters:
         """The names of the body elements in id order (None where unnamed)."""
         return _all_names(self, 'body')
 
+    @property
+    def _body_name2id(self):
+        """{name: id} of the named body elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'body')[0]
+
+    @property
+    def _body_id2name(self):
+        """{id: name} of every body, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'body')[1]
+
     def joint_name2id(self, name):
         """The id of the joint named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'jnt', name)
@@ -44,6 +54,16 @@ class SimModelGetters:
     def joint_names(self):
         """The names of the joint elements in id order (None where unnamed)."""
         return _all_names(self, 'jnt')
+
+    @property
+    def _joint_name2id(self):
+        """{name: id} of the named joint elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'jnt')[0]
+
+    @property
+    def _joint_id2name(self):
+        """{id: name} of every joint, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'jnt')[1]
 
     def geom_name2id(self, name):
         """The id of the geom named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
@@ -58,6 +78,16 @@ class SimModelGetters:
         """The names of the geom elements in id order (None where unnamed)."""
         return _all_names(self, 'geom')
 
+    @property
+    def _geom_name2id(self):
+        """{name: id} of the named geom elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'geom')[0]
+
+    @property
+    def _geom_id2name(self):
+        """{id: name} of every geom, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'geom')[1]
+
     def site_name2id(self, name):
         """The id of the site named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'site', name)
@@ -70,6 +100,16 @@ class SimModelGetters:
     def site_names(self):
         """The names of the site elements in id order (None where unnamed)."""
         return _all_names(self, 'site')
+
+    @property
+    def _site_name2id(self):
+        """{name: id} of the named site elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'site')[0]
+
+    @property
+    def _site_id2name(self):
+        """{id: name} of every site, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'site')[1]
 
     def camera_name2id(self, name):
         """The id of the camera named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
@@ -84,6 +124,16 @@ class SimModelGetters:
         """The names of the camera elements in id order (None where unnamed)."""
         return _all_names(self, 'cam')
 
+    @property
+    def _camera_name2id(self):
+        """{name: id} of the named camera elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'cam')[0]
+
+    @property
+    def _camera_id2name(self):
+        """{id: name} of every camera, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'cam')[1]
+
     def light_name2id(self, name):
         """The id of the light named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'light', name)
@@ -96,6 +146,16 @@ class SimModelGetters:
     def light_names(self):
         """The names of the light elements in id order (None where unnamed)."""
         return _all_names(self, 'light')
+
+    @property
+    def _light_name2id(self):
+        """{name: id} of the named light elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'light')[0]
+
+    @property
+    def _light_id2name(self):
+        """{id: name} of every light, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'light')[1]
 
     def flex_name2id(self, name):
         """The id of the flex named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
@@ -110,6 +170,16 @@ class SimModelGetters:
         """The names of the flex elements in id order (None where unnamed)."""
         return _all_names(self, 'flex')
 
+    @property
+    def _flex_name2id(self):
+        """{name: id} of the named flex elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'flex')[0]
+
+    @property
+    def _flex_id2name(self):
+        """{id: name} of every flex, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'flex')[1]
+
     def mesh_name2id(self, name):
         """The id of the mesh named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'mesh', name)
@@ -122,6 +192,16 @@ class SimModelGetters:
     def mesh_names(self):
         """The names of the mesh elements in id order (None where unnamed)."""
         return _all_names(self, 'mesh')
+
+    @property
+    def _mesh_name2id(self):
+        """{name: id} of the named mesh elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'mesh')[0]
+
+    @property
+    def _mesh_id2name(self):
+        """{id: name} of every mesh, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'mesh')[1]
 
     def skin_name2id(self, name):
         """The id of the skin named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
@@ -136,6 +216,16 @@ class SimModelGetters:
         """The names of the skin elements in id order (None where unnamed)."""
         return _all_names(self, 'skin')
 
+    @property
+    def _skin_name2id(self):
+        """{name: id} of the named skin elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'skin')[0]
+
+    @property
+    def _skin_id2name(self):
+        """{id: name} of every skin, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'skin')[1]
+
     def hfield_name2id(self, name):
         """The id of the hfield named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'hfield', name)
@@ -148,6 +238,16 @@ class SimModelGetters:
     def hfield_names(self):
         """The names of the hfield elements in id order (None where unnamed)."""
         return _all_names(self, 'hfield')
+
+    @property
+    def _hfield_name2id(self):
+        """{name: id} of the named hfield elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'hfield')[0]
+
+    @property
+    def _hfield_id2name(self):
+        """{id: name} of every hfield, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'hfield')[1]
 
     def texture_name2id(self, name):
         """The id of the texture named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
@@ -162,6 +262,16 @@ class SimModelGetters:
         """The names of the texture elements in id order (None where unnamed)."""
         return _all_names(self, 'tex')
 
+    @property
+    def _texture_name2id(self):
+        """{name: id} of the named texture elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'tex')[0]
+
+    @property
+    def _texture_id2name(self):
+        """{id: name} of every texture, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'tex')[1]
+
     def material_name2id(self, name):
         """The id of the material named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'mat', name)
@@ -174,6 +284,16 @@ class SimModelGetters:
     def material_names(self):
         """The names of the material elements in id order (None where unnamed)."""
         return _all_names(self, 'mat')
+
+    @property
+    def _material_name2id(self):
+        """{name: id} of the named material elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'mat')[0]
+
+    @property
+    def _material_id2name(self):
+        """{id: name} of every material, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'mat')[1]
 
     def pair_name2id(self, name):
         """The id of the pair named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
@@ -188,6 +308,16 @@ class SimModelGetters:
         """The names of the pair elements in id order (None where unnamed)."""
         return _all_names(self, 'pair')
 
+    @property
+    def _pair_name2id(self):
+        """{name: id} of the named pair elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'pair')[0]
+
+    @property
+    def _pair_id2name(self):
+        """{id: name} of every pair, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'pair')[1]
+
     def exclude_name2id(self, name):
         """The id of the exclude named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'exclude', name)
@@ -200,6 +330,16 @@ class SimModelGetters:
     def exclude_names(self):
         """The names of the exclude elements in id order (None where unnamed)."""
         return _all_names(self, 'exclude')
+
+    @property
+    def _exclude_name2id(self):
+        """{name: id} of the named exclude elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'exclude')[0]
+
+    @property
+    def _exclude_id2name(self):
+        """{id: name} of every exclude, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'exclude')[1]
 
     def equality_name2id(self, name):
         """The id of the equality named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
@@ -214,6 +354,16 @@ class SimModelGetters:
         """The names of the equality elements in id order (None where unnamed)."""
         return _all_names(self, 'eq')
 
+    @property
+    def _equality_name2id(self):
+        """{name: id} of the named equality elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'eq')[0]
+
+    @property
+    def _equality_id2name(self):
+        """{id: name} of every equality, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'eq')[1]
+
     def tendon_name2id(self, name):
         """The id of the tendon named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'tendon', name)
@@ -226,6 +376,16 @@ class SimModelGetters:
     def tendon_names(self):
         """The names of the tendon elements in id order (None where unnamed)."""
         return _all_names(self, 'tendon')
+
+    @property
+    def _tendon_name2id(self):
+        """{name: id} of the named tendon elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'tendon')[0]
+
+    @property
+    def _tendon_id2name(self):
+        """{id: name} of every tendon, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'tendon')[1]
 
     def actuator_name2id(self, name):
         """The id of the actuator named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
@@ -240,6 +400,16 @@ class SimModelGetters:
         """The names of the actuator elements in id order (None where unnamed)."""
         return _all_names(self, 'actuator')
 
+    @property
+    def _actuator_name2id(self):
+        """{name: id} of the named actuator elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'actuator')[0]
+
+    @property
+    def _actuator_id2name(self):
+        """{id: name} of every actuator, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'actuator')[1]
+
     def sensor_name2id(self, name):
         """The id of the sensor named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'sensor', name)
@@ -252,6 +422,16 @@ class SimModelGetters:
     def sensor_names(self):
         """The names of the sensor elements in id order (None where unnamed)."""
         return _all_names(self, 'sensor')
+
+    @property
+    def _sensor_name2id(self):
+        """{name: id} of the named sensor elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'sensor')[0]
+
+    @property
+    def _sensor_id2name(self):
+        """{id: name} of every sensor, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'sensor')[1]
 
     def numeric_name2id(self, name):
         """The id of the numeric named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
@@ -266,6 +446,16 @@ class SimModelGetters:
         """The names of the numeric elements in id order (None where unnamed)."""
         return _all_names(self, 'numeric')
 
+    @property
+    def _numeric_name2id(self):
+        """{name: id} of the named numeric elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'numeric')[0]
+
+    @property
+    def _numeric_id2name(self):
+        """{id: name} of every numeric, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'numeric')[1]
+
     def text_name2id(self, name):
         """The id of the text named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'text', name)
@@ -278,6 +468,16 @@ class SimModelGetters:
     def text_names(self):
         """The names of the text elements in id order (None where unnamed)."""
         return _all_names(self, 'text')
+
+    @property
+    def _text_name2id(self):
+        """{name: id} of the named text elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'text')[0]
+
+    @property
+    def _text_id2name(self):
+        """{id: name} of every text, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'text')[1]
 
     def tuple_name2id(self, name):
         """The id of the tuple named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
@@ -292,6 +492,16 @@ class SimModelGetters:
         """The names of the tuple elements in id order (None where unnamed)."""
         return _all_names(self, 'tuple')
 
+    @property
+    def _tuple_name2id(self):
+        """{name: id} of the named tuple elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'tuple')[0]
+
+    @property
+    def _tuple_id2name(self):
+        """{id: name} of every tuple, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'tuple')[1]
+
     def keyframe_name2id(self, name):
         """The id of the keyframe named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'key', name)
@@ -305,6 +515,16 @@ class SimModelGetters:
         """The names of the keyframe elements in id order (None where unnamed)."""
         return _all_names(self, 'key')
 
+    @property
+    def _keyframe_name2id(self):
+        """{name: id} of the named keyframe elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'key')[0]
+
+    @property
+    def _keyframe_id2name(self):
+        """{id: name} of every keyframe, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'key')[1]
+
     def plugin_name2id(self, name):
         """The id of the plugin named `name`; UnknownNameError (a ValueError and a KeyError) if none is."""
         return _id(self, 'plugin', name)
@@ -317,6 +537,16 @@ class SimModelGetters:
     def plugin_names(self):
         """The names of the plugin elements in id order (None where unnamed)."""
         return _all_names(self, 'plugin')
+
+    @property
+    def _plugin_name2id(self):
+        """{name: id} of the named plugin elements (mujoco-py's dict)."""
+        return _name_dicts(self, 'plugin')[0]
+
+    @property
+    def _plugin_id2name(self):
+        """{id: name} of every plugin, None where unnamed (mujoco-py's dict)."""
+        return _name_dicts(self, 'plugin')[1]
 
     def get_joint_qpos_addr(self, name):
         """Where joint `name` lies in qpos: an int for a 1-wide joint, else (start, end)."""
