@@ -344,21 +344,36 @@ BOUNDS = {
 _ID_NAME = re.compile(r"^([a-z]+?)(?:_?id|exclude|[0-9])?$")
 
 # Arguments declared as a C enum (mjs_findElement's `mjtObj type`) must be one of
-# its members (derive_enums): MuJoCo follows some unchecked (mjs_findElement with
-# type 10**9 segfaults).  Those whose header gives other values a meaning are left
-# out here: (function, argument) -> why.  None does in MuJoCo 4.0.
-ENUM_EXCEPTIONS: dict = {}
-
-# Arguments declared `int` whose header comment names their enum ("font is mjtFont"):
-# checked as members of it too.  (function, argument) -> enum.
-ENUM_INTS = {
-    ("mjr_changeFont", "fontscale"): "mjtFontScale",   # MuJoCo frees the font, then fails
-    ("mjr_setBuffer", "framebuffer"): "mjtFramebuffer",
-    ("mjr_text", "font"): "mjtFont",
-    ("mjr_overlay", "font"): "mjtFont",
-    ("mjr_overlay", "gridpos"): "mjtGridPos",
-    ("mjr_label", "font"): "mjtFont",
+# its members (derive_enums): MuJoCo follows some unchecked.  Those MuJoCo handles
+# safely for any value take any int the C type holds, as the official bindings take
+# any int for their enum arguments: (function, argument) -> where MuJoCo handles it
+# (the audit is in CONFORMANCE.md, "Strictness beyond the official bindings";
+# tests/test_enum_strictness.py).  mjs_findElement stays checked: an unknown type
+# indexes mjCModel::FindObject's object lists (a segfault), and so do mjOBJ_DEFAULT
+# and mjOBJ_MODEL (CHECKS).
+ENUM_EXCEPTIONS: dict = {
+    ("mjs_firstChild", "type"): "mjCBody::NextChild's switch has a default: it sets the "
+                                "spec's error and mjs_firstChild returns NULL",
+    ("mjs_firstElement", "type"): "mjCModel::NextObject's switch has a default that returns "
+                                  "NULL (mjOBJ_UNKNOWN throws: CHECKS refuses it)",
+    ("mjs_makeMesh", "builtin"): "its switch has a default: it sets the spec's error "
+                                 "\"Unsupported mesh type\" and returns 1",
 }
+
+# Arguments declared `int` whose header comment names their enum ("font is mjtFont"),
+# to check as members of it where MuJoCo follows them unchecked: (function, argument)
+# -> enum.  None does in MuJoCo 4.0; the official bindings take any int for them all,
+# and so does mjcffi, for MuJoCo handles every value:
+#   mjr_text, mjr_label, mjr_overlay font: only compared with mjFONT_SHADOW and
+#     mjFONT_BIG (render_gl2.c): any other value draws as mjFONT_NORMAL;
+#   mjr_overlay gridpos: a switch without a default sets the viewport; another value
+#     leaves the current one (render_gl2.c, draw_overlay);
+#   mjr_setBuffer framebuffer: another value than mjFB_WINDOW binds the offscreen
+#     buffer and is stored in con.currentBuffer, which MuJoCo (and mjr_readPixels
+#     here) only compare with mjFB_WINDOW;
+#   mjr_changeFont fontscale: makeFont's switch has a default, mju_error("Invalid
+#     fontscale"): FatalError, the old font freed (rangeFont 0: text draws nothing).
+ENUM_INTS: dict = {}
 
 # The mjr_* functions that draw with OpenGL (mjcffi/_support/mjr.py): the mjrContext they take
 # must have been made, not freed, in the OpenGL context current on this thread; those
@@ -510,6 +525,12 @@ CHECKS = {
     "mju_Halton": ["index(base, 2 ** 31, 'base', 2)"],     # it divides by base, loops on 1
     # mjOBJ_UNKNOWN throws a C++ exception through the C API: the process aborts
     "mjs_firstElement": ["require(type != 0, 'type must not be mjOBJ_UNKNOWN')"],
+    # mjCModel::FindObject indexes its object lists (mjNOBJECT of them) by the type:
+    # mjNOBJECT, mjOBJ_DEFAULT and mjOBJ_MODEL, values of mjtObj, read past them (the
+    # enum check refuses the rest; mjOBJ_DEFAULT segfaults on a compiled spec)
+    "mjs_findElement": ["require(type < mjNOBJECT or type == mjOBJ_FRAME, f'type={type} is a "
+                        "value of mjtObj that mjs_findElement cannot take: it must be below "
+                        "mjNOBJECT or mjOBJ_FRAME, for MuJoCo indexes its object lists by it')"],
     # the renderer (mjcffi/_support/mjr.py): what MuJoCo follows in the scene, figure and text
     "mjr_render": ["render_scene(@scn, scn, @con, con)"],
     "mjr_figure": ["figure_fields(fig)"],

@@ -135,11 +135,12 @@ def _listing(results):
 
 # ------------------------------------------------------------ CONFORMANCE.md
 
-def split(text):
-    """(text before the section, the section, text after it); section '' when absent."""
+def split(text, title=TITLE):
+    """(text before the section, the section, text after it); section '' when absent.
+    A section runs from its `# title` line to the next top-level heading."""
     lines = text.splitlines(keepends=True)
     try:
-        start = next(i for i, line in enumerate(lines) if line.rstrip("\n") == TITLE)
+        start = next(i for i, line in enumerate(lines) if line.rstrip("\n") == title)
     except StopIteration:
         return text, "", ""
     end = next((i for i in range(start + 1, len(lines)) if lines[i].startswith("# ")),
@@ -147,9 +148,9 @@ def split(text):
     return "".join(lines[:start]), "".join(lines[start:end]), "".join(lines[end:])
 
 
-def replace_section(text, section):
+def replace_section(text, section, title=TITLE):
     """`text` with its section replaced by `section`, or `section` appended."""
-    before, old, after = split(text)
+    before, old, after = split(text, title)
     if not old:
         before = before.rstrip("\n") + "\n\n" if before.strip() else ""
     return before + section.rstrip("\n") + "\n" + (("\n" + after) if after else "")
@@ -160,11 +161,12 @@ def write(section, path=CONFORMANCE):
     path.write_text(replace_section(path.read_text() if path.exists() else "", section))
 
 
-def keep_section(path, text):
-    """`text` (a new CONFORMANCE.md) with the mujoco-py section that `path` holds now."""
+def keep_section(path, text, title=TITLE):
+    """`text` (a new CONFORMANCE.md) with the section `title` (by default the mujoco-py
+    one) that `path` holds now."""
     path = pathlib.Path(path)
-    _, section, _ = split(path.read_text()) if path.exists() else ("", "", "")
-    return replace_section(text, section) if section else text
+    _, section, _ = split(path.read_text(), title) if path.exists() else ("", "", "")
+    return replace_section(text, section, title) if section else text
 
 
 def committed_passes(path=CONFORMANCE):

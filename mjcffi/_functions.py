@@ -37,11 +37,6 @@ _BOOL_dt, _BOOL_ct = _m.BOOL
 
 # the values of the C enums that arguments are declared as (derive_enums)
 _ENUMS = {
-    "mjtFont": frozenset((0, 1, 2)),
-    "mjtFontScale": frozenset((50, 100, 150, 200, 250, 300)),
-    "mjtFramebuffer": frozenset((0, 1)),
-    "mjtGridPos": frozenset((0, 1, 2, 3, 4, 5, 6, 7)),
-    "mjtMeshBuiltin": frozenset((0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13)),
     "mjtObj": frozenset((
         0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24,
         25, 26, 100, 101, 102)),
@@ -9442,8 +9437,6 @@ def _mjr_changeFont(fontscale, con, *, prepare=False):
     prepare: for mjr_changeFont.prepare, which refuses inputs it would copy, checks scalars now,
     and returns the guarded call, ready to make."""
     c_con = _m.struct(con, "mjrContext", "con")
-    if fontscale.__class__ is not int or fontscale not in _ENUMS["mjtFontScale"]:
-        fontscale = _c.enum_value(fontscale, _ENUMS["mjtFontScale"], "fontscale", "mjtFontScale")
     try:
         _r.context(con, "con", "mjr_changeFont")
     except (TypeError, ValueError, _m.FatalError):
@@ -9468,7 +9461,6 @@ def mjr_changeFont(fontscale, con):
 
 Change font of existing context.
 
-fontscale must be a value of mjtFontScale.
 con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
     return _mjr_changeFont(fontscale, con)
@@ -9814,8 +9806,6 @@ def _mjr_setBuffer(framebuffer, con, *, prepare=False):
     prepare: for mjr_setBuffer.prepare, which refuses inputs it would copy, checks scalars now,
     and returns the guarded call, ready to make."""
     c_con = _m.struct(con, "mjrContext", "con")
-    if framebuffer.__class__ is not int or framebuffer not in _ENUMS["mjtFramebuffer"]:
-        framebuffer = _c.enum_value(framebuffer, _ENUMS["mjtFramebuffer"], "framebuffer", "mjtFramebuffer")
     try:
         _r.context(con, "con", "mjr_setBuffer")
     except (TypeError, ValueError, _m.FatalError):
@@ -9841,7 +9831,6 @@ def mjr_setBuffer(framebuffer, con):
 Set OpenGL framebuffer for rendering: mjFB_WINDOW or mjFB_OFFSCREEN.
 If only one buffer is available, set that buffer and ignore framebuffer argument.
 
-framebuffer must be a value of mjtFramebuffer.
 con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
     return _mjr_setBuffer(framebuffer, con)
@@ -10036,8 +10025,6 @@ def _mjr_text(font, txt, con, x, y, r, g, b, *, prepare=False):
     and returns the guarded call, ready to make."""
     c_con = _m.struct(con, "mjrContext", "con")
     c_txt = _m.text(txt, "txt")
-    if font.__class__ is not int or font not in _ENUMS["mjtFont"]:
-        font = _c.enum_value(font, _ENUMS["mjtFont"], "font", "mjtFont")
     _r.ascii_text(c_txt, 'txt')
     try:
         _r.context(con, "con", "mjr_text")
@@ -10069,7 +10056,6 @@ def mjr_text(font, txt, con, x, y, r, g, b):
 
 Draw text at (x,y) in relative coordinates; font is mjtFont.
 
-font must be a value of mjtFont.
 con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
     return _mjr_text(font, txt, con, x, y, r, g, b)
@@ -10100,10 +10086,6 @@ def _mjr_overlay(font, gridpos, viewport, overlay, overlay2, con, *, prepare=Fal
     c_con = _m.struct(con, "mjrContext", "con")
     c_overlay = _m.text(overlay, "overlay")
     c_overlay2 = _m.opt_text(overlay2, "overlay2")
-    if font.__class__ is not int or font not in _ENUMS["mjtFont"]:
-        font = _c.enum_value(font, _ENUMS["mjtFont"], "font", "mjtFont")
-    if gridpos.__class__ is not int or gridpos not in _ENUMS["mjtGridPos"]:
-        gridpos = _c.enum_value(gridpos, _ENUMS["mjtGridPos"], "gridpos", "mjtGridPos")
     _r.overlay_text(c_overlay, 'overlay')
     _r.overlay_text(c_overlay2, 'overlay2')
     try:
@@ -10132,8 +10114,6 @@ def mjr_overlay(font, gridpos, viewport, overlay, overlay2, con):
 
 Draw text overlay; font is mjtFont; gridpos is mjtGridPos.
 
-font must be a value of mjtFont.
-gridpos must be a value of mjtGridPos.
 con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
     return _mjr_overlay(font, gridpos, viewport, overlay, overlay2, con)
@@ -10255,8 +10235,6 @@ def _mjr_label(viewport, font, txt, r, g, b, a, rt, gt, bt, con, *, prepare=Fals
     c_viewport = _m.struct_value(viewport, "mjrRect", "viewport")
     c_con = _m.struct(con, "mjrContext", "con")
     c_txt = _m.text(txt, "txt")
-    if font.__class__ is not int or font not in _ENUMS["mjtFont"]:
-        font = _c.enum_value(font, _ENUMS["mjtFont"], "font", "mjtFont")
     _r.ascii_text(c_txt, 'txt')
     try:
         _r.context(con, "con", "mjr_label")
@@ -10288,7 +10266,6 @@ def mjr_label(viewport, font, txt, r, g, b, a, rt, gt, bt, con):
 
 Draw rectangle with centered text.
 
-font must be a value of mjtFont.
 con must be an MjrContext made (not freed) in the OpenGL context current on this thread (ValueError, FatalError otherwise).
 """
     return _mjr_label(viewport, font, txt, r, g, b, a, rt, gt, bt, con)
@@ -20731,8 +20708,6 @@ def _mjs_makeMesh(mesh, builtin, params, *, prepare=False):
     prepare: for mjs_makeMesh.prepare, which refuses inputs it would copy, checks scalars now,
     and returns the guarded call, ready to make."""
     c_mesh = _m.struct(mesh, "mjsMesh", "mesh")
-    if builtin.__class__ is not int or builtin not in _ENUMS["mjtMeshBuiltin"]:
-        builtin = _c.enum_value(builtin, _ENUMS["mjtMeshBuiltin"], "builtin", "mjtMeshBuiltin")
     params, c_params = _m.array_out(params, _m.NUM, "params")
     nparams = _m.dim(params, 1, 0, 1, "params")
     _m.shape(params, nparams, "params")
@@ -20756,7 +20731,6 @@ def mjs_makeMesh(mesh, builtin, params):
 
 Sets the vertices and normals of a mesh.
 
-builtin must be a value of mjtMeshBuiltin.
 params: output array of shape (nparams,).
 """
     return _mjs_makeMesh(mesh, builtin, params)
@@ -20970,6 +20944,7 @@ def _mjs_findElement(s, type, name, *, prepare=False):
     c_name = _m.text(name, "name")
     if type.__class__ is not int or type not in _ENUMS["mjtObj"]:
         type = _c.enum_value(type, _ENUMS["mjtObj"], "type", "mjtObj")
+    _m.require(type < 26 or type == 100, f'type={type} is a value of mjtObj that mjs_findElement cannot take: it must be below mjNOBJECT or mjOBJ_FRAME, for MuJoCo indexes its object lists by it')
     if prepare:
         _m.check_scalars("mjs_findElement", {"type": ("mjtObj", type)})
         return _bind_mjs_findElement(s, c_s, type, c_name)
@@ -21307,8 +21282,6 @@ def _mjs_firstChild(body, type, recurse, *, prepare=False):
     prepare: for mjs_firstChild.prepare, which refuses inputs it would copy, checks scalars now,
     and returns the guarded call, ready to make."""
     c_body = _m.struct(body, "mjsBody", "body")
-    if type.__class__ is not int or type not in _ENUMS["mjtObj"]:
-        type = _c.enum_value(type, _ENUMS["mjtObj"], "type", "mjtObj")
     if prepare:
         _m.check_scalars("mjs_firstChild", {"type": ("mjtObj", type), "recurse": ("int", recurse)})
         return _bind_mjs_firstChild(body, c_body, type, recurse)
@@ -21327,8 +21300,6 @@ def mjs_firstChild(body, type, recurse):
     """mjs_firstChild(body: mujoco._structs.MjsBody, type: int, recurse: int) -> mujoco._structs.MjsElement
 
 Return body's first child of given type. If recurse is nonzero, also search the body's subtree.
-
-type must be a value of mjtObj.
 """
     return _mjs_firstChild(body, type, recurse)
 
@@ -21400,8 +21371,6 @@ def _mjs_firstElement(s, type, *, prepare=False):
     prepare: for mjs_firstElement.prepare, which refuses inputs it would copy, checks scalars now,
     and returns the guarded call, ready to make."""
     c_s = _m.struct(s, "mjSpec", "s")
-    if type.__class__ is not int or type not in _ENUMS["mjtObj"]:
-        type = _c.enum_value(type, _ENUMS["mjtObj"], "type", "mjtObj")
     _m.require(type != 0, 'type must not be mjOBJ_UNKNOWN')
     if prepare:
         _m.check_scalars("mjs_firstElement", {"type": ("mjtObj", type)})
@@ -21420,8 +21389,6 @@ def mjs_firstElement(s, type):
     """mjs_firstElement(s: mujoco._structs.MjSpec, type: int) -> mujoco._structs.MjsElement
 
 Return spec's first element of selected type.
-
-type must be a value of mjtObj.
 """
     return _mjs_firstElement(s, type)
 

@@ -233,6 +233,20 @@ def test_a_section_before_another_heading_keeps_that_heading(tmp_path):
         f"# A\n\n{report.TITLE}\n\nnew\n\n# B\n\ntail\n"
 
 
+def test_both_writers_keep_the_hand_written_strictness_section(tmp_path):
+    path = tmp_path / "CONFORMANCE.md"
+    strictness = f"{official_report.STRICTNESS}\n\n| audit |\n\n## Differences the other way\n\nx\n"
+    path.write_text(f"# Conformance with the official bindings' tests\n\nold\n\n"
+                    f"{report.TITLE}\n\nold\n\n{strictness}")
+    report.write(report.render(_fake_results()), path)               # the mujoco-py writer
+    assert path.read_text().endswith(strictness)
+    fresh = "# Conformance with the official bindings' tests\n\nnew\n"
+    text = report.keep_section(path, fresh)                          # the official writer
+    text = report.keep_section(path, text, official_report.STRICTNESS)
+    assert text.startswith(fresh) and text.endswith(strictness)
+    assert report.split(text)[1] == report.split(path.read_text())[1]
+
+
 # ------------------------------------------------------------- regression
 
 def _committed():

@@ -696,8 +696,8 @@ def test_render_refuses_scenes_that_point_past_their_buffers(backend):
 # ------------------------------------------------------------ text, figures, enums
 
 def drawing_scenario():
-    """2D drawing: rectangles, text, overlays, labels and figures draw, and the
-    arguments MuJoCo follows unchecked are refused."""
+    """2D drawing: rectangles, text, overlays, labels and figures draw, the arguments
+    MuJoCo follows unchecked are refused, and enum values MuJoCo handles are taken."""
     import numpy as np
 
     import mjcffi
@@ -736,10 +736,6 @@ def drawing_scenario():
         "label_unicode": lambda: F.mjr_label(full, 2, "\u00ff", 1, 1, 1, 1, 0, 0, 0, con),
         "overlay_line": lambda: F.mjr_overlay(0, 0, full, "x" * 500, None, con),
         "overlay2_line": lambda: F.mjr_overlay(0, 0, full, "a", "y" * 600, con),
-        "font": lambda: F.mjr_text(7, "hi", con, 0.1, 0.1, 1, 1, 1),
-        "gridpos": lambda: F.mjr_overlay(0, 9, full, "a", None, con),
-        "framebuffer": lambda: F.mjr_setBuffer(2, con),
-        "fontscale": lambda: F.mjr_changeFont(77, con),
         "aux_index": lambda: F.mjr_setAux(10, con),
         "resize_negative": lambda: F.mjr_resizeOffscreen(-1, 80, con),
     }
@@ -758,6 +754,15 @@ def drawing_scenario():
         edit(fig)
         bad["figure_" + name] = (lambda fig: lambda: F.mjr_figure(full, fig, con))(fig)
     out["bad"] = {name: _outcome(call) for name, call in bad.items()}
+    # values outside their enum: MuJoCo handles them, and the official bindings take
+    # them (tests/test_enum_strictness.py); an unknown fontscale is MuJoCo's FatalError
+    out["enum_ints"] = {name: _outcome(call) for name, call in {
+        "font": lambda: F.mjr_text(7, "hi", con, 0.1, 0.1, 1, 1, 1),
+        "gridpos": lambda: F.mjr_overlay(0, 9, full, "a", None, con),
+        "framebuffer": lambda: F.mjr_setBuffer(2, con),
+        "fontscale": lambda: F.mjr_changeFont(77, con),
+        "fontscale_again": lambda: F.mjr_changeFont(150, con)}.items()}
+    F.mjr_setBuffer(mjcffi.mjtFramebuffer.mjFB_OFFSCREEN, con)
     fig = mjcffi.MjvFigure()
     _set_chars(fig._ptr.xformat, b"%.1f%%")
     out["percent_format"] = _outcome(lambda: F.mjr_figure(full, fig, con))
@@ -786,10 +791,6 @@ def test_2d_drawing_and_the_arguments_mujoco_follows(backend):
         "label_unicode": "ValueError: txt must be ASCII",
         "overlay_line": "ValueError: overlay: a line of 500",
         "overlay2_line": "ValueError: overlay2: a line of 500",
-        "font": "ValueError: font=7 is not a value of mjtFont",
-        "gridpos": "ValueError: gridpos=9 is not a value of mjtGridPos",
-        "framebuffer": "ValueError: framebuffer=2 is not a value of mjtFramebuffer",
-        "fontscale": "ValueError: fontscale=77 is not a value of mjtFontScale",
         "aux_index": "FatalError: Invalid aux buffer index",
         "resize_negative": "ValueError: width must not be negative",
         "figure_linepnt": "ValueError: fig.linepnt[3]=5000 is outside",
@@ -802,6 +803,9 @@ def test_2d_drawing_and_the_arguments_mujoco_follows(backend):
     }
     for name, text in expected.items():
         assert out["bad"][name].startswith(text), (name, out["bad"][name])
+    assert out["enum_ints"] == {"font": "ok", "gridpos": "ok", "framebuffer": "ok",
+                                "fontscale": "FatalError: Invalid fontscale",
+                                "fontscale_again": "ok"}
 
 
 # ------------------------------------------------------------ without OpenGL at all
