@@ -119,6 +119,18 @@ def test_a_released_allocation_becomes_read_only(md, release):
         a[0] = 1.0
 
 
+def test_a_raw_mjdata_pointer_gets_arrays_and_releases_them_too(md):
+    # the functions take a raw `mjData *` as well (found by python -m tests.fuzz)
+    m, d = md
+    raw_m, raw_d = m._ptr, d._ptr
+    mjcffi.mj_markStack(raw_d)
+    a = mjcffi.mj_stackAllocByte(raw_d, 5, 1)
+    b = mjcffi.mj_stackAllocNum(d, 2)                  # the same data, through its wrapper
+    assert (a.shape, a.dtype, a.flags.writeable) == ((5,), np.uint8, True)
+    mjcffi.mj_resetData(raw_m, raw_d)
+    assert not a.flags.writeable and not b.flags.writeable
+
+
 def test_a_frame_pop_releases_only_what_the_frame_holds(md):
     m, d = md
     outer = mjcffi.mj_stackAllocInt(d, 2)

@@ -26,13 +26,21 @@ live = False       # some stack array may be unreleased: the releasing calls swe
 _arrays: dict = {}  # mjData address -> [(weakref to the array, d->pstack just after it)]
 
 
+def _data(d):
+    """(the mjData pointer, what keeps it alive) of an MjData or a raw `mjData *` cdata
+    (which the functions take too: its caller keeps it alive, as for any raw call)."""
+    pointer = getattr(d, "_ptr", None)
+    return (d, d) if pointer is None else (pointer, d._root)
+
+
 def array(d, pointer, count, dtype):
     """The view of `count` `dtype` elements that a stack allocation of `d` returned."""
     global live
-    a = view(pointer, dtype, (count,), d._root)
+    data, owner = _data(d)
+    a = view(pointer, dtype, (count,), owner)
     if count:
-        key = int(ffi.cast("uintptr_t", d._ptr))
-        _arrays.setdefault(key, []).append((weakref.ref(a), d._ptr.pstack))
+        key = int(ffi.cast("uintptr_t", data))
+        _arrays.setdefault(key, []).append((weakref.ref(a), data.pstack))
         live = True
     return a
 
@@ -42,11 +50,12 @@ def sweep(d):
     read-only.  An allocation ends `pstack` bytes below the stack's bottom; it is
     released once d->pstack is below that."""
     global live
-    key = int(ffi.cast("uintptr_t", d._ptr))
+    data, _ = _data(d)
+    key = int(ffi.cast("uintptr_t", data))
     entries = _arrays.get(key)
     if not entries:
         return
-    pstack = d._ptr.pstack
+    pstack = data.pstack
     kept = []
     for ref, top in entries:
         a = ref()
