@@ -8,7 +8,7 @@ import argparse
 import pathlib
 
 from . import (comments, extents, fields, functions, guards, headers, named, outputs, parse,
-               simconst, simgetters, structs)
+               simconst, simfunctions, simgetters, structs)
 
 REPO = pathlib.Path(__file__).resolve().parent.parent
 
@@ -21,7 +21,7 @@ def generate():
     notes = comments.read(header_texts)
     known = {name: value for enum in decls.enums.values() for name, value in enum.members}
     described = fields.describe(decls, notes, extents.from_xmacros(known), known)
-    return {
+    files = {
         "mjcffi/_c/generated/cdef.h": outputs.cdef(text),
         "mjcffi/_generated/enums.py": outputs.enums(decls),
         "mjcffi/_generated/constants.py": outputs.constants(header_texts, headers.macro_values()),
@@ -35,6 +35,10 @@ def generate():
         **simgetters.generate(described, decls),
         **simconst.generate(decls, header_texts),
     }
+    # mujoco-py's functions call mjcffi's: read from this run's mjcffi/_functions.py
+    files.update(simfunctions.generate(decls, notes, header_texts,
+                                       files["mjcffi/_functions.py"]))
+    return files
 
 
 def main(argv=None):

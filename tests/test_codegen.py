@@ -24,6 +24,22 @@ def _committed_generated():
 GENERATED = _committed_generated()
 
 
+def _unwritable(relpath):
+    """Why codegen cannot write `relpath` here, or None: mjcffi/sim/generated/functions.py
+    is made from mujoco-py's wheel, which codegen leaves alone (and says so) when the
+    wheel is neither cached nor downloadable."""
+    from codegen import simfunctions
+    if relpath == simfunctions.OUTPUT:
+        return simfunctions.missing_wheel()
+    return None
+
+
+def _skip_unwritable(regenerated, relpath):
+    reason = _unwritable(relpath)
+    if reason and not (regenerated / relpath).exists():
+        pytest.skip(f"{relpath} not regenerated: {reason}")
+
+
 @pytest.fixture(scope="module")
 def regenerated(tmp_path_factory):
     out = tmp_path_factory.mktemp("codegen")
@@ -34,6 +50,7 @@ def regenerated(tmp_path_factory):
 
 @pytest.mark.parametrize("relpath", GENERATED)
 def test_committed_output_matches_codegen(regenerated, relpath):
+    _skip_unwritable(regenerated, relpath)
     fresh = (regenerated / relpath).read_text()
     committed = (REPO / relpath).read_text()
     assert fresh == committed, f"{relpath} drifted: run `python -m codegen` and commit"
@@ -42,7 +59,7 @@ def test_committed_output_matches_codegen(regenerated, relpath):
 def test_codegen_writes_exactly_the_committed_generated_files(regenerated):
     # a generated file codegen no longer writes, or one not yet committed, fails here
     written = sorted(str(p.relative_to(regenerated)) for p in regenerated.rglob("*") if p.is_file())
-    assert written == GENERATED
+    assert written == [p for p in GENERATED if p in written or not _unwritable(p)]
     assert {"mjcffi/_c/generated/cdef.h", "mjcffi/_generated/funcinfo.py", "mjcffi/structs/mjdata.py"} <= set(written)
 
 
@@ -56,10 +73,14 @@ def test_codegen_is_deterministic(regenerated):
     from codegen.__main__ import generate
     again = generate()
     for relpath in GENERATED:
+        if relpath not in again and _unwritable(relpath):
+            continue
         assert again[relpath] == (regenerated / relpath).read_text(), relpath
 
 
 def test_generated_text_names_no_local_path(regenerated):
     for relpath in GENERATED:
+        if not (regenerated / relpath).exists() and _unwritable(relpath):
+            continue
         text = (regenerated / relpath).read_text()
         assert "site-packages" not in text and "/include/mujoco" not in text, relpath

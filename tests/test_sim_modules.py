@@ -12,6 +12,7 @@ from mjcffi.sim import const, functions
 from mjcffi.sim._model import SimData, load_model_from_xml
 from mjcffi.sim._vfs import PyMjVFS
 from mjcffi.sim.generated import const as generated_const
+from mjcffi.sim.generated import functions as generated_functions
 
 XML = """
 <mujoco>
@@ -80,7 +81,9 @@ def test_functions_forward_to_mjcffi():
     functions.mj_resetData(model, data)
     assert data.time == 0.0 and data.qpos[2] == 1.0
     assert functions.mj_name2id(model, const.OBJ_BODY, "ball") == 1
-    assert functions.mj_step.__wrapped__ is mjcffi.functions.mj_step
+    # mujoco-py's functions are the generated ones; mjcffi's others are its own
+    assert functions.mj_step.__wrapped__ is generated_functions.mj_step
+    assert functions.mj_jacDot.__wrapped__ is mjcffi.functions.mj_jacDot
 
 
 def test_quat2mat_fills_a_9_vector():

@@ -1,20 +1,34 @@
 """mujoco-py's `mujoco_py.functions`: MuJoCo's functions, called mujoco-py's way.
 
-`functions.mj_step(model, data)`, `functions.mju_quat2Mat(mat, quat)`, ...:
-every public function of mjcffi (mjcffi.functions), taking SimModel and
-SimData (mjcffi's MjModel and MjData) and NumPy arrays.  A MuJoCo error in
-any of them (mjcffi.FatalError) goes to the error callback set with
-`cymj.set_error_callback`, as in mujoco-py; with none set it is raised.
+`functions.mj_step(model, data)`, `functions.mju_quat2Mat(res, quat)`,
+`functions.mj_saveLastXML("saved.xml", model, "", 0)`, ...: every function of
+mujoco-py 2.1's module, with mujoco-py's parameters in its order (`__all__`
+lists them).  They are generated from mujoco-py's own wrappers
+(mjcffi/sim/generated/functions.py, by codegen/simfunctions.py) and call
+mjcffi's functions (mjcffi.functions, the official bindings' signatures),
+taking SimModel and SimData (mjcffi's MjModel and MjData): flat NumPy arrays
+are viewed in the shapes mjcffi takes, size arguments are checked and cut the
+arrays, error buffers (`error, error_sz`) are accepted and ignored, `uintptr_t`
+arguments are addresses of C ints (or int32 arrays).  Where MuJoCo 4 changed
+a function's meaning or dropped it, the function raises NotImplementedError
+saying why (`REMOVED`); `CHANGED` says how the others whose arguments are
+mapped differ.
 
-The VFS functions keep mujoco-py's return codes on a PyMjVFS:
-`mj_addFileVFS(vfs, directory, filename)` gives 0, 2 for a name already
-held, -1 for a file that cannot be read (MuJoCo 4 would add a missing file
-and fail only when it is read: it is looked for on disk first, as MuJoCo 2
+A MuJoCo error in any of them (mjcffi.FatalError) goes to the error callback
+set with `cymj.set_error_callback`, as in mujoco-py; with none set it is raised.
+
+The VFS functions are written here and keep mujoco-py's return codes on a
+PyMjVFS: `mj_addFileVFS(vfs, directory, filename)` gives 0, 2 for a name
+already held, -1 for a file that cannot be read (MuJoCo 4 would add a missing
+file and fail only when it is read: it is looked for on disk first, as MuJoCo 2
 did); `mj_findFileVFS(vfs, name)`, which MuJoCo 4 no longer has, gives the
 file's index in the order the files were added, or -1 (see _vfs.py).
+`mj_addBufferVFS(vfs, name, buffer)`, which mujoco-py did not have, is here too.
 
-The functions are mjcffi's, looked up on first use; only the VFS ones are
-written here.
+mjcffi's other functions, which mujoco-py's module did not have (mj_jacDot,
+mju_mulMatVec3, ...), are here as well, with the official bindings' signature
+and the same error routing; they are looked up on first use and are not in
+`__all__`.  Where both have a function, mujoco-py's signature is the one here.
 """
 
 import functools
@@ -24,11 +38,20 @@ from .. import functions as _mj
 from .._support.errors import FatalError
 from ..structs.mjmodel import MjVFS
 from ._vfs import PyMjVFS, _as_str
+from .generated import functions as _generated
+
+CHANGED = _generated.CHANGED    # {name: how its arguments differ from mjcffi's}
+REMOVED = _generated.REMOVED    # {name: why it raises NotImplementedError}
 
 _WRITTEN_HERE = ("mj_defaultVFS", "mj_deleteVFS", "mj_addFileVFS", "mj_addBufferVFS",
                  "mj_deleteFileVFS", "mj_findFileVFS")
 
-__all__ = sorted(set(_mj.NAMES) | set(_WRITTEN_HERE))
+if not set(_generated.HAND_WRITTEN) <= set(_WRITTEN_HERE):
+    raise ImportError(f"mjcffi.sim.generated.functions leaves "
+                      f"{sorted(set(_generated.HAND_WRITTEN) - set(_WRITTEN_HERE))} to this "
+                      f"module, which does not write them")
+
+__all__ = list(_generated.NAMES)
 
 
 def _routed(function):
@@ -43,7 +66,14 @@ def _routed(function):
     return call
 
 
+for _name in _generated.NAMES:
+    if _name not in _WRITTEN_HERE:
+        globals()[_name] = _routed(getattr(_generated, _name))
+del _name
+
+
 def __getattr__(name):
+    """mjcffi's functions that mujoco-py's module did not have, on first use."""
     if name in _mj.NAMES:
         value = _routed(getattr(_mj, name))
         globals()[name] = value         # later lookups skip __getattr__
@@ -52,7 +82,7 @@ def __getattr__(name):
 
 
 def __dir__():
-    return sorted(set(globals()) | set(__all__))
+    return sorted(set(globals()) | set(__all__) | set(_mj.NAMES))
 
 
 # ------------------------------------------------------------------ VFS
