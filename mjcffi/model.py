@@ -108,3 +108,10 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
 
     def __reduce__(self):
         return (type(self).from_bytes, (self.to_bytes(),))
+
+    def _repr_html_(self):
+        """Jupyter's display: the model's name, its sizes (nq, nv, nu, nbody and the
+        other nonzero ones) and main options, as an HTML table
+        (mjcffi/_support/display.py, imported on first display)."""
+        from ._support import display
+        return display.safe(self, lambda: display.model_html(self))

@@ -657,6 +657,15 @@ class MjSpec(_generated.MjSpec):
         child.__dict__.update(_parent=self, _by_reference=not self._deep_copy)
         return self._element(result)
 
+    # -------------------------------------------------------------- display
+
+    def _repr_html_(self):
+        """Jupyter's display: the model name, timestep, element counts and the body
+        tree with each body's geoms, joints and sites (at most 200 bodies; see
+        mjcffi/_support/display.py).  A spec another thread holds shows a short note."""
+        from .._support import display
+        return display.safe(self, lambda: display.spec_html(self))
+
     # ----------------------------------------------------------- orientation
 
     @staticmethod

@@ -93,17 +93,40 @@ class TuneResult:
 
         plot: a .png path; draws the candidates' search-set error against their speed-up
         there (needs matplotlib) and links it from the markdown."""
-        lines = [f"# Tuned settings (budget: {self.budget_name}, objective: {self.objective})",
-                 "",
-                 f"Control period {self.control_period:g} s. Speed-up **{self.speedup:.2f}×** "
-                 f"real time against the original settings (measured interleaved, median). "
-                 f"Tuning took {self.wall_time:.1f} s and {self.evaluations} evaluations.", ""]
-        lines += self._changes() + self._errors() + self._candidates()
+        lines = self._head() + self._changes() + self._errors() + self._candidates()
         if plot is not None:
             problem = draw(self, plot)
             lines += ([f"(No plot: {problem}.)", ""] if problem
                       else [f"![local error against speed]({plot})", ""])
         return "\n".join(lines)
+
+    def _repr_markdown_(self):
+        """Jupyter's display where markdown is wanted: the report, without the plot."""
+        try:
+            return self.report()
+        except Exception:
+            return None            # IPython then shows the next representation
+
+    def _repr_html_(self):
+        """Jupyter's display: the report as HTML, with the plot (inline PNG, when
+        matplotlib is installed) before the candidates' table."""
+        from .._support import display
+
+        def build():
+            html = display.markdown_html("\n".join(self._head() + self._changes() +
+                                                   self._errors()))
+            png = png_bytes(self)
+            if png is not None:
+                html += "\n" + display.png_img(png, "local error against speed")
+            return html + "\n" + display.markdown_html("\n".join(self._candidates()))
+        return display.safe(self, build)
+
+    def _head(self):
+        return [f"# Tuned settings (budget: {self.budget_name}, objective: {self.objective})",
+                "",
+                f"Control period {self.control_period:g} s. Speed-up **{self.speedup:.2f}×** "
+                f"real time against the original settings (measured interleaved, median). "
+                f"Tuning took {self.wall_time:.1f} s and {self.evaluations} evaluations.", ""]
 
     def _changes(self):
         if not self.settings:
@@ -153,16 +176,38 @@ def _show(name, value):
 
 
 def draw(result, path):
-    """Search-set error (worst joint kind / its budget) against speed-up; None or a reason."""
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
+    """Search-set error (worst joint kind / its budget) against speed-up, saved as a PNG
+    at `path`; None, or the reason there is no plot."""
+    fig = _figure(result)
+    if fig is None:
         return ("matplotlib is not installed (pip install 'mjcffi[plot]')")
+    fig.savefig(path, dpi=72)
+    return None
+
+
+def png_bytes(result, dpi=80):
+    """The plot of `draw` as PNG bytes, or None without matplotlib."""
+    fig = _figure(result)
+    if fig is None:
+        return None
+    import io
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=dpi)
+    return buffer.getvalue()
+
+
+def _figure(result):
+    """The plot as a matplotlib Figure, or None without matplotlib.  It is made without
+    pyplot: no backend is chosen or changed (a notebook's stays as it is), and no
+    figure is left open for pyplot to show."""
+    try:
+        from matplotlib.figure import Figure
+    except ImportError:
+        return None
     from ..evaluation.measures import worst_ratio
     budget = result.error.budget
-    fig, ax = plt.subplots(figsize=(5.5, 3.8))
+    fig = Figure(figsize=(5.5, 3.8))
+    ax = fig.subplots()
     for status, colour in (("verified", "tab:green"), ("searched", "tab:gray")):
         pts = [c for c in result.candidates if (c.status == "verified") == (status == "verified")
                and math.isfinite(worst_ratio(c.error, budget))]
@@ -176,6 +221,4 @@ def draw(result, path):
     ax.set_ylabel("worst local error / budget")
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=72)
-    plt.close(fig)
-    return None
+    return fig
