@@ -1,18 +1,26 @@
-"""The README's speed figures, written from RESULTS.md so that the two cannot disagree.
+"""The speed figures of the README and the docs, written from RESULTS.md so that they
+cannot disagree.
 
-The README holds two blocks between marker comments; `update` rewrites them
-from the text of RESULTS.md, and `python -m benchmarks.compare --write` calls
-it after writing RESULTS.md.  tests/test_readme_figures.py checks that the
-committed README equals what `update` makes of the committed RESULTS.md.
+The README holds the headline block between marker comments, and two pages of the
+documentation (docs/) one block each; `update` rewrites a file's blocks from the text
+of RESULTS.md, and `python -m benchmarks.compare --write` calls `write` after
+writing RESULTS.md.  tests/test_readme_figures.py checks that each committed file
+equals what `update` makes of the committed RESULTS.md.
 """
 
 import pathlib
 import re
 import textwrap
 
-README = pathlib.Path(__file__).resolve().parent.parent / "README.md"
+REPO = pathlib.Path(__file__).resolve().parent.parent
+README = REPO / "README.md"
 
 _BLOCKS = ("headline", "per-call cost", "spec speed")
+
+# Each file that quotes RESULTS.md -> (its blocks, the link to RESULTS.md from there).
+FILES = {README: (("headline",), "benchmarks/RESULTS.md"),
+         REPO / "docs" / "drop-in.md": (("per-call cost",), "results.md"),
+         REPO / "docs" / "mjspec.md": (("spec speed",), "results.md")}
 
 
 def _marks(block):
@@ -101,7 +109,7 @@ def _percent(ratio):
 def headline(f):
     low, high = f["loops"][0], f["loops"][-1]
     return "\n".join([
-        textwrap.fill(f"Measured on {f['date']} ([benchmarks/RESULTS.md](benchmarks/RESULTS.md); "
+        textwrap.fill(f"Measured on {f['date']} ([benchmarks/RESULTS.md]({f['link']}); "
                       f"ratios are mjcffi / official, in one process):", 96),
         _bullet(f"**Imports in milliseconds**: `import mjcffi` took {f['import_ms']:.1f} ms, "
                 f"against {f['import_official_ms']:.1f} ms for `import mujoco` "
@@ -155,24 +163,27 @@ def spec_speed(f):
         f"**Speed.** Building a 100-body tree with keyword `add_*` calls and compiling it "
         f"took {f['spec_build']:.2f}× the official time ({f['date']}); element attribute "
         f"reads and writes {low:.2f}–{high:.2f}×, a name read {f['spec_name']:.2f}× "
-        f"([benchmarks/RESULTS.md](benchmarks/RESULTS.md)).")
+        f"([benchmarks/RESULTS.md]({f['link']})).")
 
 
 _WRITERS = {"headline": headline, "per-call cost": per_call, "spec speed": spec_speed}
 
 
-def update(readme, results):
-    """The README text with its figure blocks written from the RESULTS.md text."""
-    f = figures(results)
-    for block in _BLOCKS:
+def update(readme, results, blocks=FILES[README][0], link="benchmarks/RESULTS.md"):
+    """The text of a file with its figure `blocks` written from the RESULTS.md text,
+    `link` being the path to RESULTS.md from that file."""
+    f = dict(figures(results), link=link)
+    for block in blocks:
         start, end = _marks(block)
         pattern = re.compile(re.escape(start) + r"\n.*?\n" + re.escape(end), re.S)
         if not pattern.search(readme):
-            raise ValueError(f"README.md has no {block!r} block between its markers")
+            raise ValueError(f"the text has no {block!r} block between its markers")
         readme = pattern.sub(lambda _: f"{start}\n{_WRITERS[block](f)}\n{end}", readme)
     return readme
 
 
 def write(results_path):
-    """Rewrite README.md's figure blocks from the RESULTS.md at `results_path`."""
-    README.write_text(update(README.read_text(), pathlib.Path(results_path).read_text()))
+    """Rewrite every file's figure blocks from the RESULTS.md at `results_path`."""
+    results = pathlib.Path(results_path).read_text()
+    for path, (blocks, link) in FILES.items():
+        path.write_text(update(path.read_text(), results, blocks, link))

@@ -12,6 +12,7 @@ loads on first use, so that `import mjcffi` stays cheap.
 
 import importlib
 import importlib.util
+import sys
 
 from ._support import aliases as _aliases
 from ._generated.constants import *  # noqa: F401,F403
@@ -85,6 +86,9 @@ _GL_SUBMODULES = ("egl", "osmesa", "glfw")
 
 
 def __getattr__(name):
+    if name == "__all__":
+        value = globals()["__all__"] = _public_names()
+        return value
     if name in _SUBMODULES:
         value = globals()[name] = importlib.import_module(f".{name}", __name__)
         return value
@@ -114,6 +118,17 @@ def __getattr__(name):
 
 def _plugins():
     return importlib.import_module("._support.plugins", __name__)
+
+
+def _public_names():
+    """`mjcffi.__all__`, made on first use (it imports the function and struct tables):
+    every public name of the package, the submodules left out (import them by name)."""
+    names = __dir__()                    # imports the tables, and so some submodules
+    left_out = set(_SUBMODULES) | set(_GL_SUBMODULES) | {"importlib", "sys"}
+    loaded = {name for name, value in globals().items()
+              if value is not None and value is sys.modules.get(f"{__name__}.{name}")}
+    return sorted(name for name in names if not name.startswith("_")
+                  and name not in left_out | loaded)
 
 
 # `import mujoco.rollout` after `sys.modules['mujoco'] = mjcffi` gives mjcffi.rollout

@@ -59,6 +59,7 @@ from .spec import MjSpec as MjSpec, from_zip as from_zip, to_zip as to_zip
 
 __version__: str
 __mjcffi_version__: str
+__all__: list[str]
 
 # mjcffi/_support/plugins.py: the bundled plugin libraries, loaded on first use
 import ctypes as _ctypes

@@ -282,3 +282,21 @@ def test_tune_result_html_escapes_and_never_raises(tuned, monkeypatch):
     monkeypatch.setattr(type(result), "_errors", lambda self: 1 / 0)
     assert result._repr_html_() == f"<pre>{display.escape(repr(result))}</pre>"
     assert result._repr_markdown_() is None
+
+
+# ------------------------------------------------------------ around the display
+
+def test_a_change_shows_enum_values_by_name_as_the_report_does():
+    from mjcffi.tune._result import Change
+    assert str(Change("integrator", 0, 1, "why")) == "integrator: Euler → RK4 (why)"
+    assert str(Change("timestep", 0.01, 0.005, "why")) == "timestep: 0.01 → 0.005 (why)"
+
+
+def test_the_progress_bar_is_tqdm_s_text_bar_without_ipywidgets(monkeypatch):
+    # tqdm.auto would pick the notebook bar and warn "IProgress not found" in notebooks
+    tqdm_std = pytest.importorskip("tqdm.std")
+    import sys
+    from mjcffi._support import progress
+    monkeypatch.setitem(sys.modules, "ipywidgets", None)
+    with progress.bar(3, "x", "it") as bar:
+        assert type(bar) is tqdm_std.tqdm

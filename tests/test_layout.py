@@ -1,5 +1,5 @@
 """cffi lays out every MuJoCo struct exactly as the C compiler does; and the
-package's modules import one another in the layers the README describes."""
+package's modules import one another in the layers docs/architecture.md describes."""
 
 import ast
 from pathlib import Path
@@ -57,7 +57,7 @@ def test_basic_types_have_the_abi_sizes(name, size):
 
 # ------------------------------------------------------------ import layering
 #
-# README, "Layout": the tree shows the tiers, and imports run down them.  A module's
+# docs/architecture.md, "Layout": the tree shows the tiers, and imports run down them.  A module's
 # tier is read from where it lies:
 #   tables     mjcffi/_generated/          generated data; imports nothing of the package
 #   compiled   mjcffi._mjcffi              built from mjcffi/_c/

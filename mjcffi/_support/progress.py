@@ -29,7 +29,22 @@ def bar(total, description, unit, enabled=True, leave=True):
     if not enabled:
         return Silent()
     try:
-        from tqdm.auto import tqdm
+        tqdm = _tqdm_class()
     except ImportError:
         return Silent()
     return tqdm(total=total, desc=description, unit=unit, leave=leave)
+
+
+def _tqdm_class():
+    """tqdm's notebook bar where ipywidgets can draw it, else its text bar: tqdm.auto
+    would pick the notebook bar without ipywidgets and warn, naming a local path."""
+    import importlib.util
+    try:
+        widgets = importlib.util.find_spec("ipywidgets") is not None
+    except ValueError:                   # sys.modules["ipywidgets"] is None: not usable
+        widgets = False
+    if widgets:
+        from tqdm.auto import tqdm
+    else:
+        from tqdm.std import tqdm
+    return tqdm

@@ -17,7 +17,9 @@ class Change:
     reason: str
 
     def __str__(self):
-        return f"{self.name}: {self.before} → {self.after} ({self.reason})"
+        # enum values by name, as the report shows them (integrator: Euler → RK4)
+        return (f"{self.name}: {_show(self.name, self.before)} → "
+                f"{_show(self.name, self.after)} ({self.reason})")
 
 
 @dataclasses.dataclass

@@ -1,6 +1,6 @@
 """KNOWN_OPEN: findings whose fixes are under way, each with the issue item it belongs
 to, and MuJoCo's own limits that no binding can catch (out of memory inside
-MuJoCo's C++ compiler: the official binding ends the same way), which the README
+MuJoCo's C++ compiler: the official binding ends the same way), which docs/reliability.md
 names as outside the promise.
 
 While an entry is here, tests/test_fuzz.py accepts its finding, so that CI stays
@@ -37,7 +37,7 @@ class Known(NamedTuple):
         return (self.witness or self.pattern).split(" ; ")
 
 
-_OOM = "MuJoCo's limit, outside the promise (README): out of memory"
+_OOM = "MuJoCo's limit, outside the promise (docs/reliability.md): out of memory"
 
 KNOWN_OPEN = [
     Known("load:from_xml_string|xml|huge hfield", _OOM + ": a model whose XML asks "
