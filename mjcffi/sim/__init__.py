@@ -32,7 +32,8 @@ This package is the whole mujoco-py face, at mujoco-py's module paths (`const`,
 `utils`, `version`; `install_as_mujoco_py()` makes `import mujoco_py` give them): the sim
 and its state (`_sim`, `_state`, `_base`, `_pool`, `_substep`, `_pid`, `_ray`,
 `_save`), its model and data (`_model`, `_vfs`, the generated getters of
-`generated/getters.py` and what they call, `_getter_support`), its error and
+`generated/getters.py` and what they call, `_getter_support`; the generated
+`generated/functions.py` and `_function_support`), its error and
 warning hooks (`_callbacks`, `_warnings`).  The C of its PID actuators is
 mjcffi/_c/sim_pid.c, with the rest of the package's C.
 """
