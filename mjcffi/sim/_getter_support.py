@@ -50,9 +50,8 @@ def _all_names(model, category):
     cache = model.__dict__.setdefault("_sim_names", {})
     names = cache.get(category)
     if names is None:
-        count = getattr(model, CATEGORIES[category].size)
-        names = cache[category] = tuple(name for name in (_name_of(model, category, i)
-                                                          for i in range(count)) if name)
+        id2name = _name_dicts(model, category)[1]
+        names = cache[category] = tuple(name for name in id2name.values() if name is not None)
     return names
 
 

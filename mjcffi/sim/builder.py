@@ -8,6 +8,7 @@ mjcffi runs on (mujoco-py's was ~/.mujoco/mujoco210).
 """
 
 from . import cymj, functions
+from ._substep import build_callback_fn
 from ._warnings import MujocoException, ignore_mujoco_warnings
 from .utils import discover_mujoco
 
@@ -16,9 +17,3 @@ __all__ = ["cymj", "functions", "MujocoException", "ignore_mujoco_warnings",
 
 mujoco_path = discover_mujoco()
 
-
-def build_callback_fn(function_string, userdata_names=()):
-    """Compile `function_string`, C code defining `fun(const mjModel*, mjData*)`, into a
-    substep callback's address (MjSim.set_substep_callback takes it)."""
-    from ._substep import build_callback_fn as build  # compiles: imported on use only
-    return build(function_string, userdata_names)
