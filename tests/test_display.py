@@ -243,11 +243,13 @@ def test_tune_result_markdown_is_its_report(tuned):
 def test_tune_result_html_shows_the_report(tuned):
     text = tuned._repr_html_()
     assert text.startswith("<h3>Tuned settings (budget: 0.001, objective: cheapest)</h3>")
-    assert f"Speed-up <b>{tuned.speedup:.2f}×</b>" in text
+    assert f"Result: {tuned.speedup:.2f}× the original&#x27;s speed</b>" in text
     for change in tuned.settings.values():
         assert f">{change.name}</td>" in text
     assert ">hinge</td>" in text and ">rad</td>" in text
+    # tables: changes, held-out error, the 0.5 s distance, candidates (a header row each)
     assert text.count("<tr>") == (1 + len(tuned.settings) + 1 + len(tuned.error.local)
+                                  + 1 + len(tuned.error.divergence.tuned)
                                   + 1 + len(tuned.candidates))
     assert "|" not in re.sub(r"<img[^>]*>", "", text)
 
@@ -261,7 +263,7 @@ def test_tune_result_html_holds_the_plot(tuned):
     assert png.startswith(b"\x89PNG\r\n\x1a\n") and len(png) > 1000
     # before the candidates' table, after the held-out figures
     assert text.index("<img") < text.index("Candidates (search-set error")
-    assert text.index("<img") > text.index("Long horizon")
+    assert text.index("<img") > text.index("Held-out trajectories over the whole horizon")
 
 
 def test_tune_result_html_without_matplotlib_is_the_report_alone(tuned, monkeypatch):

@@ -7,7 +7,7 @@ import numpy as np
 
 from .. import rollout as _rollout
 from ..data import MjData
-from .measures import local_error
+from .measures import error_estimates, local_error
 from .states import FULLPHYSICS
 
 # rollouts record every step: keep one call's output under this many float64s
@@ -60,6 +60,39 @@ def period_error(pool, m, setting, base_disable, samples, reference_qpos, nstep,
     return local_error(m, qpos_of(m, end), reference_qpos)
 
 
+def run_periods(pool, m, states, warmstarts, controls, nstep, nthread):
+    """(n x nstate) states after len(controls[i]) control periods of `nstep` steps from each
+    of `states` (with its warm start), control row p held over period p; rows that did
+    not run through (diverged) are not finite."""
+    n, nperiod = controls.shape[:2]
+    nstate = states.shape[1]
+    total = nstep * nperiod
+    out = np.empty((n, nstate))
+    datas = [MjData(m) for _ in range(max(1, nthread))]
+    chunk = max(1, _MAX_OUTPUT // (total * nstate))
+    for a in range(0, n, chunk):
+        b = min(n, a + chunk)
+        control = np.repeat(controls[a:b], nstep, axis=1)
+        state, _ = pool.rollout(m, datas, states[a:b], control, nstep=total,
+                                initial_warmstart=warmstarts[a:b])
+        out[a:b] = state[:, -1]
+    horizon = total * m.opt.timestep
+    advanced = np.abs(out[:, 0] - states[:, 0] - horizon) <= 1e-6 * horizon + 1e-12
+    out[~(advanced & np.all(np.isfinite(out), axis=1))] = np.nan
+    return out
+
+
+def period_estimates(pool, m, setting, base_disable, samples, reference_qpos, nstep, nthread):
+    """({kind: Estimate}, end states): the quantile estimates of `setting`'s one-period
+    error (on top of `base_disable`) from each sample against the reference's qpos, and the
+    (n x nstate) end states (a run that diverged has rows that are not finite, and makes
+    every kind's estimate infinite)."""
+    end, ok = end_states(pool, setting_model(m, setting, base_disable), samples, nstep, nthread)
+    qpos = qpos_of(m, end).copy()
+    qpos[~ok] = np.nan
+    return error_estimates(m, qpos, reference_qpos), end
+
+
 def qpos_of(m, states):
     """The qpos columns of (n x nstate) mjSTATE_FULLPHYSICS states (time comes first)."""
     return states[:, 1:1 + m.nq]
@@ -70,5 +103,5 @@ def new_pool(nthread):
     return _rollout.Rollout(nthread=nthread)
 
 
-__all__ = ["FULLPHYSICS", "end_states", "new_pool", "period_error", "qpos_of",
+__all__ = ["FULLPHYSICS", "end_states", "new_pool", "period_error", "period_estimates", "qpos_of", "run_periods",
            "setting_model", "steps_per_period"]

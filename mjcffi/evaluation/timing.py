@@ -2,9 +2,14 @@
 
 The machine may be shared and noisy, so an absolute time means little: a ratio
 is measured by timing two settings in turn, pair after pair, and taking the
-median of the pairs' ratios.
+median of the pairs' ratios.  A control period is timed in CPU time of the
+calling thread (`time.thread_time`), not wall-clock time: on a loaded machine
+wall-clock ratios of two identical settings spread 0.3-1.9x, CPU-time ratios
+0.98-1.02x (DESIGN.md, fourth round).
 """
 
+import dataclasses
+import math
 import statistics
 import time
 
@@ -33,37 +38,75 @@ def steps_per_second(m, reset, nstep, repeats=3, min_time=0.05):
     return statistics.median(rates)
 
 
+TIMED_SAMPLES = 64     # periods timed per run, spread over the samples
+
+
 class PeriodTimer:
     """Times one control period from each sampled state under one model, on the calling
     thread (the C rollout loop, GIL released), repeating until `min_time` has passed."""
 
-    def __init__(self, m, samples, nstep, min_time=0.02):
+    def __init__(self, m, samples, nstep, min_time=0.02, nsample=TIMED_SAMPLES):
         self.m = m
         self.data = MjData(m)
-        self.samples = samples
+        # a spread subset of the samples: the cost of a period is an average, and one
+        # run of all of them would take far longer than min_time on a big model
+        pick = np.unique(np.linspace(0, len(samples) - 1, min(nsample, len(samples)))
+                         .round().astype(int))
+        self.states = samples.states[pick]
+        self.warmstarts = samples.warmstarts[pick]
         self.nstep = nstep
         self.min_time = min_time
-        self.control = np.repeat(samples.next_controls[:, None, :], nstep, axis=1)
-        self.state = np.empty((len(samples), nstep, samples.states.shape[1]))
-        self.sensordata = np.empty((len(samples), nstep, m.nsensordata))
+        self.control = np.repeat(samples.next_controls[pick, None, :], nstep, axis=1)
+        self.state = np.empty((len(pick), nstep, samples.states.shape[1]))
+        self.sensordata = np.empty((len(pick), nstep, m.nsensordata))
 
     def seconds_per_period(self):
-        """Wall-clock seconds per control period simulated (one sample)."""
+        """CPU seconds of this thread per control period simulated (one sample).  The
+        rollout runs on the calling thread, so its CPU time is the thread's."""
         runs = 0
         elapsed = 0.0
         while elapsed < self.min_time:
-            t = time.perf_counter()
-            _rollout.rollout(self.m, self.data, self.samples.states, self.control,
-                             nstep=self.nstep, initial_warmstart=self.samples.warmstarts,
+            t = time.thread_time()
+            _rollout.rollout(self.m, self.data, self.states, self.control,
+                             nstep=self.nstep, initial_warmstart=self.warmstarts,
                              state=self.state, sensordata=self.sensordata)
-            elapsed += time.perf_counter() - t
+            elapsed += time.thread_time() - t
             runs += 1
-        return elapsed / (runs * len(self.samples))
+        return elapsed / (runs * len(self.states))
 
 
-def speed_ratio(base, candidate, pairs=5):
-    """(median, ratios): how many times faster `candidate` runs a control period than `base`
-    (two PeriodTimers), timed in turn `pairs` times."""
+@dataclasses.dataclass(frozen=True)
+class Speed:
+    """A measured speed ratio: the median of the pairs and a distribution-free confidence
+    interval of that median (order statistics of the pairs' ratios)."""
+
+    value: float
+    low: float
+    high: float
+    ratios: tuple
+
+    def __str__(self):
+        return f"{self.value:.2f}× (95 % interval {self.low:.2f}–{self.high:.2f})"
+
+
+def median_interval(ratios, confidence=0.95):
+    """(low, high): order statistics X(j), X(n+1-j) of `ratios` that bracket their true
+    median with probability at least `confidence` (the largest such j; X(1), X(n) when n is
+    too small for any)."""
+    x = sorted(ratios)
+    n = len(x)
+    best = 1
+    for j in range(1, n // 2 + 1):
+        # P(median outside [X(j), X(n+1-j)]) = 2 P(Binomial(n, 1/2) <= j - 1)
+        tail = sum(math.comb(n, i) for i in range(j)) / 2 ** n
+        if 1 - 2 * tail >= confidence:
+            best = j
+    return x[best - 1], x[n - best]
+
+
+def speed(base, candidate, pairs=9):
+    """A Speed: how many times faster `candidate` runs a control period than `base` (two
+    PeriodTimers), timed in turn `pairs` times."""
     ratios = []
     for i in range(pairs):
         # alternate which goes first, so that a warm cache or a busy core favours neither
@@ -72,4 +115,12 @@ def speed_ratio(base, candidate, pairs=5):
         b = second.seconds_per_period()
         tb, tc = (a, b) if first is base else (b, a)
         ratios.append(tb / tc)
-    return statistics.median(ratios), ratios
+    low, high = median_interval(ratios)
+    return Speed(statistics.median(ratios), low, high, tuple(ratios))
+
+
+def speed_ratio(base, candidate, pairs=5):
+    """(median, ratios): how many times faster `candidate` runs a control period than `base`
+    (two PeriodTimers), timed in turn `pairs` times."""
+    s = speed(base, candidate, pairs)
+    return s.value, list(s.ratios)

@@ -2,7 +2,9 @@ from typing import Any, Literal, Mapping
 
 import numpy as np
 
+from ..evaluation.measures import Estimate
 from ..evaluation.settings import Setting
+from ..evaluation.timing import Speed
 from ..model import MjModel
 
 OBJECTIVES: tuple[str, ...]
@@ -27,16 +29,28 @@ class TuneError:
     budget: dict[str, float]
     stability: Any
     original_stability: Any
+    local_bound: dict[str, float] | None
+    original_bound: dict[str, float] | None
+    bounded: bool
+    reference_penetration: float
+    divergence: Any
 
 class Candidate:
     setting: Setting
     nstep: int
-    error: dict[str, float]
-    speedup: float
-    measured: bool
+    estimates: dict[str, Estimate]
+    speed: Speed | None
     status: str
-    held_out: dict[str, float] | None
+    held_out: dict[str, Estimate] | None
+    stability: Any
+    divergence: Any
     reasons: dict[str, str]
+    @property
+    def error(self) -> dict[str, float]: ...
+    @property
+    def speedup(self) -> float | None: ...
+    @property
+    def measured(self) -> bool: ...
     def label(self, original: Setting) -> str: ...
 
 class TuneResult:
@@ -45,13 +59,19 @@ class TuneResult:
     setting: Setting
     original_setting: Setting
     settings: dict[str, Change]
+    outcome: Literal["faster", "original", "slower"]
+    original_meets: bool
     speedup: float
+    speed: Speed | None
     error: TuneError
     candidates: list[Candidate]
+    budget_name: str
     objective: str
     control_period: float
+    period_source: str
     wall_time: float
     evaluations: int
+    timings: int
     disable_set: int
     def options(self) -> dict[str, Any]: ...
     def report(self, plot: str | None = ...) -> str: ...

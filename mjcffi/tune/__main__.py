@@ -11,7 +11,7 @@ import sys
 from .._cli import (check_ray, check_writable, load_model, non_negative_int, one_line,
                         positive, positive_int)
 from ..evaluation.periods import steps_per_period
-from ._tune import OBJECTIVES, BudgetError, _horizon, tune
+from ._tune import OBJECTIVES, BudgetError, _horizon, default_period, tune
 
 PROG = "python -m mjcffi.tune"
 
@@ -33,7 +33,8 @@ def parser():
     p = argparse.ArgumentParser(prog=PROG,
                                 description="The cheapest settings of a model's options "
                                             "within a local-error budget, verified on "
-                                            "held-out states.")
+                                            "held-out states; the same settings on "
+                                            "every run.")
     p.add_argument("model", help="an MJCF (.xml) or MJB file")
     p.add_argument("--budget", type=_budget, required=True,
                    help="largest local error over one control period per joint kind "
@@ -42,7 +43,7 @@ def parser():
     timing = p.add_mutually_exclusive_group()
     timing.add_argument("--control-period", type=positive, default=None, metavar="SECONDS",
                         help="time between control updates, a whole number of timesteps "
-                             "(default: one timestep)")
+                             "(default: 10 ms in whole timesteps, at least one)")
     timing.add_argument("--frame-skip", type=positive_int, default=None, metavar="N",
                         help="the control period as N timesteps (a gymnasium env's frame_skip)")
     p.add_argument("--objective", choices=OBJECTIVES, default="cheapest")
@@ -77,13 +78,15 @@ def _checked(p, args):
     period = args.control_period
     if args.frame_skip is not None:
         period = args.frame_skip * dt
+    if period is None:
+        period = default_period(dt)
     # the model-dependent checks tune() makes, made here before any work
     try:
-        steps_per_period(dt if period is None else period, dt)
+        steps_per_period(period, dt)
     except ValueError as error:
         p.error(f"argument --control-period: {error}")
     try:
-        _horizon(args.horizon, dt if period is None else period, dt, None)
+        _horizon(args.horizon, period, dt, None)
     except ValueError as error:
         p.error(f"argument --horizon: {error}")
     for option, path in (("--report", args.report), ("--report", _plot_path(args.report)),
