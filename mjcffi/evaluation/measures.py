@@ -90,24 +90,51 @@ class Estimate:
     n: int
 
 
-def quantile_estimate(errors, q=QUANTILE, confidence=CONFIDENCE):
-    """The `q` quantile of `errors` (one per state) with an upper bound that holds with
-    probability `confidence` for states drawn as these were.
+BOOTSTRAP = 400            # resamples of the trajectories for the bound
+_BOOTSTRAP_SEED = 20261128  # fixed: the bound is a function of the data alone
 
-    The bound is the order statistic X(k) with the smallest k such that
-    P(Binomial(n, q) < k) >= confidence: at least that often, fewer than k of n draws
-    fall below the true quantile, so X(k) lies above it.  Any error that is not finite
-    makes both infinite."""
-    e = np.sort(np.asarray(errors, dtype=np.float64))
+
+def quantile_estimate(errors, groups=None, q=QUANTILE, confidence=CONFIDENCE):
+    """The `q` quantile of `errors` (one per state) with an upper bound that holds with
+    probability about `confidence` for states drawn as these were.
+
+    States sampled along one trajectory are alike, so they are not independent draws:
+    with `groups` (the trajectory of each state) the bound is a bootstrap over the
+    trajectories (whole trajectories resampled with replacement, the quantile of each
+    resample, and the `confidence` quantile of those), with a fixed seed, so that it is
+    the same for the same errors.  Without, it is the order statistic X(k) with the
+    smallest k such that P(Binomial(n, q) < k) >= confidence, for independent draws.
+    Any error that is not finite makes both infinite."""
+    e = np.asarray(errors, dtype=np.float64)
     n = len(e)
     if n == 0:
         return Estimate(0.0, 0.0, 0)
     if not np.all(np.isfinite(e)):
         return Estimate(math.inf, math.inf, n)
-    value = float(np.quantile(e, q, method="inverted_cdf"))
-    k = _upper_rank(n, q, confidence)
-    upper = float(e[k - 1]) if k <= n else float(e[-1])
+    order = np.argsort(e, kind="stable")
+    sorted_e = e[order]
+    value = float(np.quantile(sorted_e, q, method="inverted_cdf"))
+    if groups is None or len(np.unique(groups)) < 2:
+        k = _upper_rank(n, q, confidence)
+        upper = float(sorted_e[min(k, n) - 1])
+    else:
+        upper = _bootstrap_upper(sorted_e, np.asarray(groups)[order], q, confidence)
     return Estimate(value, max(upper, value), n)
+
+
+def _bootstrap_upper(sorted_e, groups, q, confidence):
+    """The `confidence` quantile, over resamples of whole groups, of the weighted `q`
+    quantile of the errors (sorted ascending, with their groups)."""
+    labels, index = np.unique(groups, return_inverse=True)
+    rng = np.random.default_rng(_BOOTSTRAP_SEED)
+    counts = rng.multinomial(len(labels), np.full(len(labels), 1.0 / len(labels)),
+                             size=BOOTSTRAP)                 # (B, ngroups)
+    weights = counts[:, index].astype(np.float64)            # (B, n): each state's copies
+    cumulative = np.cumsum(weights, axis=1)
+    # the first sorted error at which the resample's weight reaches q of its total
+    first = np.argmax(cumulative >= q * cumulative[:, -1:], axis=1)
+    quantiles = np.sort(sorted_e[first])
+    return float(quantiles[min(BOOTSTRAP - 1, int(math.ceil(confidence * BOOTSTRAP)) - 1)])
 
 
 def _upper_rank(n, q, confidence):
@@ -123,10 +150,11 @@ def _upper_rank(n, q, confidence):
     return n + 1
 
 
-def error_estimates(m, qpos, ref):
-    """{kind: Estimate} of each kind's largest error per state; a state that is not
-    finite counts as an infinite error."""
-    return {k: quantile_estimate(e) for k, e in joint_errors(m, qpos, ref).items()}
+def error_estimates(m, qpos, ref, groups=None):
+    """{kind: Estimate} of each kind's largest error per state (`groups`: the trajectory
+    of each state, for the bound); a state that is not finite counts as an infinite
+    error."""
+    return {k: quantile_estimate(e, groups) for k, e in joint_errors(m, qpos, ref).items()}
 
 
 def values(estimates):

@@ -90,7 +90,7 @@ def period_estimates(pool, m, setting, base_disable, samples, reference_qpos, ns
     end, ok = end_states(pool, setting_model(m, setting, base_disable), samples, nstep, nthread)
     qpos = qpos_of(m, end).copy()
     qpos[~ok] = np.nan
-    return error_estimates(m, qpos, reference_qpos), end
+    return error_estimates(m, qpos, reference_qpos, samples.trajectory), end
 
 
 def qpos_of(m, states):
@@ -103,5 +103,5 @@ def new_pool(nthread):
     return _rollout.Rollout(nthread=nthread)
 
 
-__all__ = ["FULLPHYSICS", "end_states", "new_pool", "period_error", "period_estimates", "qpos_of", "run_periods",
-           "setting_model", "steps_per_period"]
+__all__ = ["FULLPHYSICS", "end_states", "new_pool", "period_error", "period_estimates",
+           "qpos_of", "run_periods", "setting_model", "steps_per_period"]

@@ -30,6 +30,7 @@ class Samples:
     states: np.ndarray       # (n x nstate) sampled states (mjSTATE_FULLPHYSICS)
     warmstarts: np.ndarray   # (n x nv) qacc_warmstart at each sampled state
     next_controls: np.ndarray  # (n x nu) the control held over the period that follows
+    trajectory: np.ndarray = None   # (n,) the trajectory each state was sampled from
 
     def __len__(self):
         return len(self.states)
@@ -80,7 +81,7 @@ def sample(m, initial, controls, nstep, nsample):
     a bad qpos, qvel or qacc."""
     d = MjData(m)
     nstate = mjf.mj_stateSize(m, FULLPHYSICS)
-    states, warm, nxt, diverged = [], [], [], []
+    states, warm, nxt, traj, diverged = [], [], [], [], []
     for i, (s0, u) in enumerate(zip(initial, controls)):
         mjf.mj_resetData(m, d)
         mjf.mj_setState(m, d, s0, FULLPHYSICS)
@@ -90,6 +91,7 @@ def sample(m, initial, controls, nstep, nsample):
             states.append(s)
             warm.append(d.qacc_warmstart.copy())
             nxt.append(period)
+            traj.append(i)
             d.ctrl[:] = period
             mjf.mj_step(m, d, nstep=nstep)
             if any(d.warning[w].number for w in DIVERGED):
@@ -98,4 +100,5 @@ def sample(m, initial, controls, nstep, nsample):
     pick = np.unique(np.linspace(0, len(states) - 1, min(nsample, len(states))).round()
                      .astype(int))
     return Samples(np.asarray(initial), np.asarray(controls), np.asarray(states)[pick],
-                   np.asarray(warm)[pick], np.asarray(nxt)[pick]), diverged
+                   np.asarray(warm)[pick], np.asarray(nxt)[pick],
+                   np.asarray(traj)[pick]), diverged

@@ -12,7 +12,7 @@ the divisors of the control period (10 ms by default), and the solver's options.
 A setting is judged by its error over one control period from several hundred
 states sampled along trajectories, against a fine reference (RK4 at timestep /
 100, tight solver): per joint kind, the 90 % quantile over the states, with its
-95 % upper confidence bound held to the budget.  The winner is verified on a
+95 % upper confidence bound (a bootstrap over the trajectories) held to the budget.  The winner is verified on a
 fresh held-out draw: its bound, its contact penetration against the reference,
 its distance from a fine run after 0.5 s, and its long runs (divergence, energy).
 

@@ -61,6 +61,9 @@ class Candidate:
     divergence: object = None  # a _verify.Divergence (the 0.5 s check), once verified
     reasons: dict = dataclasses.field(default_factory=dict)   # option -> why it changed
     end: object = dataclasses.field(default=None, repr=False)  # search-set end states
+    # the candidate this one refined (one solver option less): tried in its place if this
+    # one fails the held-out check, since each refinement spends some of the budget
+    previous: object = dataclasses.field(default=None, repr=False)
 
     @property
     def error(self):
@@ -277,6 +280,7 @@ class Search:
                 c.reasons[field] = (f"{change}: the cheapest value whose error fits "
                                     f"({self.budget.describe(c.estimates)}), and it changes "
                                     f"the result (a no-op is never made)")
+                c.previous = best
                 tried.append(best)
                 return c
             gain = self.speed((best.setting, best.nstep), (s, best.nstep))
@@ -284,6 +288,7 @@ class Search:
                 c.reasons[field] = (f"{change}: measured {gain} the speed without it, "
                                     f"error within the budget "
                                     f"({self.budget.describe(c.estimates)})")
+                c.previous = best
                 tried.append(best)
                 best = c
             else:

@@ -60,6 +60,7 @@ class HorizonCheck:
                                      min(DIVERGENCE_STATES, len(samples))).round().astype(int))
         self.states = samples.states[pick]
         self.warmstarts = samples.warmstarts[pick]
+        self.trajectory = None if samples.trajectory is None else samples.trajectory[pick]
         self.controls = controls[:len(pick)]
         self.nperiod = self.controls.shape[1]
         period = nstep0 * m.opt.timestep
@@ -81,7 +82,8 @@ class HorizonCheck:
                                            self.controls, nstep, self.nthread))
 
     def divergence(self, setting, nstep):
-        return measures.error_estimates(self.m, self._run(setting, nstep), self.fine_qpos)
+        return measures.error_estimates(self.m, self._run(setting, nstep), self.fine_qpos,
+                                        self.trajectory)
 
     def of(self, setting, nstep):
         """A Divergence of `setting`."""
