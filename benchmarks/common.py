@@ -38,3 +38,24 @@ def side_by_side(statement, ours, theirs, calls, rounds, official_statement=None
                            "official": per_call(official_statement or statement, theirs,
                                                 calls)}, rounds)
     return medians["mjcffi"], medians["official"]
+
+
+def write_section(heading, lines, path=None):
+    """Replace the section of RESULTS.md (or `path`) that starts at the line `heading`
+    with `lines`, up to the next `## ` heading, keeping the rest byte for byte; append
+    it when there is none.  Returns the path written."""
+    import pathlib
+    path = pathlib.Path(path) if path else pathlib.Path(__file__).resolve().parent / "RESULTS.md"
+    text = path.read_text()
+    section = "\n".join(lines) + "\n"
+    keep = text.splitlines(keepends=True)
+    start = next((i for i, line in enumerate(keep) if line.rstrip("\n") == heading), None)
+    if start is None:
+        path.write_text(text + ("" if text.endswith("\n") or not text else "\n") +
+                        ("\n" if text else "") + section)
+        return path
+    end = next((i for i in range(start + 1, len(keep)) if keep[i].startswith("## ")),
+               len(keep))
+    tail = "".join(keep[end:])
+    path.write_text("".join(keep[:start]) + section + ("\n" + tail if tail else ""))
+    return path

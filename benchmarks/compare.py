@@ -10,9 +10,9 @@ interpreter with MUJOCO_GL=egl (bench_render).
 import argparse
 import pathlib
 
-from . import (bench_batch, bench_calls, bench_distributed, bench_import, bench_named,
-               bench_nstep, bench_render, bench_rollout, bench_sim, bench_spec, bench_step,
-               bench_structs, bench_tune, readme)
+from . import (bench_batch, bench_calls, bench_distributed, bench_fields, bench_import,
+               bench_named, bench_nstep, bench_render, bench_rollout, bench_sim, bench_spec,
+               bench_step, bench_structs, bench_tune, readme)
 from mjcffi._support.machine import environment
 
 RESULTS = pathlib.Path(__file__).resolve().parent / "RESULTS.md"
@@ -31,9 +31,9 @@ def main(argv=None):
              "is faster). The machine is "
              "shared and noisy: read the ratios, not the absolute times.", ""]
     lines += environment() + [""]
-    for bench in (bench_import, bench_step, bench_calls, bench_nstep, bench_structs, bench_named,
-                  bench_rollout, bench_distributed, bench_batch, bench_sim, bench_spec,
-                  bench_render, bench_tune):
+    for bench in (bench_import, bench_step, bench_calls, bench_nstep, bench_structs, bench_fields,
+                  bench_named, bench_rollout, bench_distributed, bench_batch, bench_sim,
+                  bench_spec, bench_render, bench_tune):
         lines += bench.run() + [""]
     text = "\n".join(lines)
     print(text)

@@ -12,6 +12,8 @@ from ._support.views import guarded_result, struct_pointer
 from ._support import bind as _bind
 from ._support.callbacks import _register_class, _track
 from ._support.named import MjDataNames, NamedAccess
+from ._support import official_pickle as _official_pickle
+from .model import MjModel
 from .structs import mjdata
 
 _HEADER_SIZE = lib.mjcffi_data_header_size()
@@ -26,8 +28,9 @@ class MjData(NamedAccess, MjDataNames, mjdata.MjData):
     """The simulation state of a model (mjData): `MjData(model)`.
 
     Arrays such as `d.qpos` are zero-copy NumPy views, built on first use and
-    cached; `d.contact` and the `efc_*` arrays are rebuilt on each read
-    because their size changes every step.  `d.model` is the model it was
+    cached; `d.contact` and the `efc_*` arrays are cached too, and checked on
+    each read against their count and address, which a step may change (a new
+    view then).  `d.model` is the model it was
     made for.  Named access: `d.joint('hinge').qpos`, and one such method per
     name category that has mjData fields (mjcffi/_support/named.py).
     """
@@ -88,6 +91,19 @@ class MjData(NamedAccess, MjDataNames, mjdata.MjData):
         return (_unpickle, (self._model, header, ffi.buffer(p.buffer, p.nbuffer)[:],
                             ffi.buffer(p.arena, p.parena)[:], ffi.buffer(layout)[:]))
 
+    def __setstate__(self, state):
+        """Load an official bindings' pickle of an MjData (with its model): it names
+        `mujoco._structs.MjData`, which is this class under `sys.modules['mujoco'] =
+        mjcffi` (mjcffi/_support/official_pickle.py).  mjcffi's own pickles never
+        come here (__reduce__)."""
+        if "_ptr" in self.__dict__:
+            raise ValueError("Invalid serialized mjData: the MjData is made already")
+        mjb, reader = _official_pickle.split_data(state)
+        model = MjModel.from_bytes(mjb)
+        _made(self, model)
+        parts = _official_pickle.data_parts(model._ptr, self._ptr, reader)
+        _restore(self, model, *parts)
+
 
 def _invalid(detail):
     return with_note(ValueError("Invalid serialized mjData"), detail)
@@ -108,14 +124,25 @@ def _unpickle(model, header, buffer, arena, layout=None):
     for name, part in parts:
         if type(part) is not bytes:
             raise _invalid(f"the {name} is a {type(part).__name__}, not bytes")
+    data = MjData.__new__(MjData)
+    _made(data, model)
+    _restore(data, model, header, buffer, arena, layout)
+    return data
+
+
+def _made(data, model):
+    """Make `data` (not yet initialized) a fresh MjData of `model`."""
     try:
-        data = MjData(model)
+        MjData.__init__(data, model)
     except (MemoryError, FatalError) as error:   # the model's sizes come from the pickle too
         raise _invalid(f"its model's MjData cannot be made: {error}") from None
+
+
+def _restore(data, model, header, buffer, arena, layout):
+    """Copy checked pickled parts into `data`, a fresh MjData of `model`."""
     args = (model._ptr, data._ptr, header, len(header), buffer, len(buffer), arena, len(arena),
             layout, len(layout))
     if lib.mjcffi_restore_data(*args, ffi.NULL, 0):
         why = ffi.new("char[]", 256)          # refused, data untouched: ask again for why
         lib.mjcffi_restore_data(*args, why, len(why))
         raise _invalid(ffi.string(why).decode("utf-8", "replace"))
-    return data

@@ -14,6 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from . import official as _official
 from .errors import ArgumentError, check, raise_pending, with_note
 from .library import ffi
 
@@ -113,7 +114,7 @@ def record_dtype(ctype):
 # few fields read every step (mjData.qpos, ...) are built when the struct is
 # wrapped instead and have no class attribute at all: CPython 3.11 reads an
 # instance attribute some 10 ns faster when no class attribute shadows it.
-# Fields that move are data descriptors, rebuilt on every read.
+# Fields that move are cached too, and checked on every read (see DynamicArray).
 
 class _Cached:
     """Base of the cached fields: build once, then store on the instance."""
@@ -202,17 +203,169 @@ def eager(*fields):
     return {field.attr: field for field in fields}
 
 
-class DynamicArray(Array):
-    """An array whose size or address changes (nefc, the arena, scene.ngeom).
+# ---------------------------------------------------------------- moving memory
+#
+# Arrays whose size or address changes (mjData's contacts and efc_* arrays, which
+# live in its arena; a scene's geoms) are cached with the words of their struct
+# that define them: the pointer, and the counts that size it.  A read compares
+# those words, a memoryview over the struct, with a copy taken when the view was
+# made: one comparison in C (20 ns, where making a view costs a microsecond).  A
+# view is made again only when they differ, and then never handed out again.
 
-    A data descriptor: the view is rebuilt on every read.
+_WORD = np.dtype(f"i{ffi.sizeof('void *')}")
+
+
+def _words(obj):
+    """The memory of struct wrapper `obj` as pointer-sized ints, made once (and again
+    when the struct moves: Struct._moved).  It references obj._ptr."""
+    words = obj.__dict__.get("_words")
+    if words is None:
+        size = ffi.sizeof(obj._ctype) // _WORD.itemsize * _WORD.itemsize
+        words = obj.__dict__["_words"] = np.frombuffer(ffi.buffer(obj._ptr, size), _WORD)
+    return words
+
+
+class _One(int):
+    """1 as a count that a shape function reads from a _Probe; [1] as the ints that
+    a pointer to counts points to (see total)."""
+
+    def __new__(cls):
+        return super().__new__(cls, 1)
+
+    def __getitem__(self, index):
+        return [1]
+
+
+class _Reads:
+    """Stands for a struct pointer (s._ptr): appends the fields read to `seen`."""
+
+    def __init__(self, seen):
+        self._seen = seen
+
+    def __getattr__(self, name):
+        self._seen.append(name)
+        return _One()
+
+
+class _Probe:
+    """Stands for a wrapper `s` in a shape or count function: what it reads of its
+    own struct (s._ptr) goes to `seen`; of its model (s._model._ptr), nowhere."""
+
+    def __init__(self, seen):
+        self._ptr = _Reads(seen)
+        self._model = _Probe.__new__(_Probe)
+        self._model._ptr = _Reads([])
+
+
+def _sizing(function, ctype, field):
+    """What defines the array `field` of struct `ctype`, sized by `function` (a shape
+    or count function): (the byte offsets of its defining words, the scalars of the
+    struct that size it).
+
+    The words are its pointer and those of the scalars: a 4-byte count shares its
+    word with a neighbour, whose change then makes a new view too.  The model's
+    sizes never change; counts that another array holds (a scene's flexedgenum) are
+    not in the key (see AllocatedArray)."""
+    seen = []
+    function(_Probe(seen))
+    fields = dict(ctype.fields)
+    scalars = tuple(n for n in dict.fromkeys(seen) if fields[n].type.kind != "pointer")
+    size = _WORD.itemsize
+    offsets = sorted({fields[field].offset} | {fields[n].offset // size * size for n in scalars})
+    return offsets, scalars
+
+
+def _key(words, offsets):
+    """A memoryview of the words of `words` at the byte `offsets`: those alone when
+    they are evenly spaced, else all the words from the first to the last (more
+    than needed: a change of any makes a new view)."""
+    index = [offset // _WORD.itemsize for offset in offsets]
+    step = index[1] - index[0] if len(index) > 1 else 1
+    if index != list(range(index[0], index[-1] + 1, step)):
+        step = 1
+    return memoryview(words[index[0]:index[-1] + 1:step])
+
+
+def _snapshot(key):
+    """A copy of the words `key` as they are now, compared by `key == copy`.  A new
+    one each time, never written: a reader in another thread that holds the old
+    copy finds it different and makes its own view."""
+    return memoryview(key.tobytes()).cast(key.format)
+
+
+_DYNAMIC: list = []       # every DynamicArray, at its index in the structs' _dyn lists
+
+
+class DynamicArray(property, Array):
+    """An array whose size or address changes (the efc_* arrays: nefc, the arena).
+
+    Its view is cached in the struct's `_dyn` list, with its key (see _key): a read
+    compares the key with its copy and makes the view again only when they
+    differ.  A property with a closure for getter: the cheapest data descriptor
+    to call.  Memory not allocated (NULL) reads as a new array of `fill` each time,
+    as in the official bindings; an empty view is one cached empty array.
     """
 
-    def __get__(self, obj, cls=None):
-        return self if obj is None else self.build(obj)
+    def __init__(self, name, elem, shape, doc="", fill=0):
+        Array.__init__(self, name, elem, shape, doc, fill)
+        self._index = index = len(_DYNAMIC)
+        _DYNAMIC.append(self)
+        self._sizing = None
+        refresh = self._refresh
 
-    def __set__(self, obj, value):
-        assign(self.build(obj), value, self.name)
+        def get(obj):
+            try:
+                key, copy, value, fresh, _ = obj._dyn[index]
+            except (AttributeError, TypeError, IndexError):    # not read yet
+                return refresh(obj)
+            if key == copy:
+                return value.copy() if fresh else value
+            return refresh(obj)
+
+        def set_value(obj, value):
+            assign(get(obj), value, name)
+
+        property.__init__(self, get, set_value, None, doc)
+
+    def _refresh(self, obj):
+        """The view as of now, made again unless its pointer and shape are unchanged,
+        and recorded with a copy of its key taken before they were read."""
+        state = obj.__dict__
+        entries = state.get("_dyn")
+        if entries is None or len(entries) < len(_DYNAMIC):
+            entries = state["_dyn"] = (entries or []) + \
+                [None] * (len(_DYNAMIC) - len(entries or []))
+        entry, entries[self._index] = entries[self._index], None    # none stale if this raises
+        if self._sizing is None:
+            self._sizing = _sizing(self.shape, obj._ctype, self.name)
+        if entry is None:
+            key, value, made = _key(_words(obj), self._sizing[0]), None, None
+        else:
+            key, _, value, _, made = entry
+        copy = _snapshot(key)                    # before reading what it defines
+        pointer, shape = getattr(obj._ptr, self.name), self._shape(obj)
+        fresh = pointer == ffi.NULL and 0 not in shape
+        if value is None or (pointer, shape) != made:
+            if 0 in shape:
+                value = np.zeros(shape, self.dtype)
+            elif fresh:
+                value = np.full(shape, self.fill, self.dtype)
+            else:
+                value = view(pointer, self.dtype, shape, obj._root)
+        entries[self._index] = (key, copy if self._told(obj) else None, value, fresh,
+                                (pointer, shape))
+        return value.copy() if fresh else value
+
+    def _shape(self, obj):
+        return self.shape(obj)
+
+    def _told(self, obj):
+        """Whether the key alone tells that the view is unchanged: always, here."""
+        return True
+
+    def build(self, obj):
+        """The view as of now."""
+        return self.__get__(obj)
 
 
 class AllocatedArray(DynamicArray):
@@ -222,9 +375,11 @@ class AllocatedArray(DynamicArray):
     Those counts are writable views, so the size is checked against what was
     allocated, recorded when the struct was wrapped (Struct._remade): a count
     written past it raises ValueError instead of showing memory beyond the block.
+    The key holds the number of counts (nflex), not the counts: it tells the size
+    only when there are none, and the size is checked on every read otherwise.
     """
 
-    def build(self, obj):
+    def _shape(self, obj):
         shape = self.shape(obj)
         size = 1
         for n in shape:
@@ -232,19 +387,25 @@ class AllocatedArray(DynamicArray):
         state = obj.__dict__
         if not 0 <= size <= state["_allocated"][self.name]:
             if obj._reallocated():
-                return self.build(obj)
+                return self._shape(obj)
             raise ValueError(f"{type(obj).__name__}.{self.name} would show {size} entries, "
                              f"not within the 0..{state['_allocated'][self.name]} allocated: "
                              f"the counts that size it were written past their allocation")
-        return view(getattr(obj._ptr, self.name), self.dtype, shape, obj._root, self.fill)
+        return shape
+
+    def _told(self, obj):
+        pointer = obj._ptr
+        return all(getattr(pointer, name) == 0 for name in self._sizing[1])
 
 
 class Records:
     """A pointed-to array of structs (mjData.contact: ncon, mjvScene.geoms: maxgeom).
 
-    A read-only data descriptor.  The StructArray it gives reads the address and
-    the count on each use: one taken before a step holds the contacts that the
-    step finds, and one of a scene remade by mjv_makeScene its new geoms.
+    The LiveStructArray it gives reads the address and the count on each use:
+    one taken before a step holds the contacts that the step finds, and one of a
+    scene remade by mjv_makeScene its new geoms.  So it is made once, and cached
+    in the instance (a non-data descriptor): `d.contact` is a plain attribute.
+    Struct.__setattr__ refuses assignment.
     """
 
     def __init__(self, name, wrapper, count, doc=""):
@@ -253,10 +414,10 @@ class Records:
     def __get__(self, obj, cls=None):
         if obj is None:
             return self
-        return LiveStructArray(self.wrapper(), obj, self.name, self.count)
-
-    def __set__(self, obj, value):
-        raise AttributeError(f"{type(obj).__name__}.{self.name} cannot be assigned")
+        wrapper = self.wrapper()
+        live = obj.__dict__[_attr(self.name)] = \
+            _live_class(wrapper)(wrapper, obj, self.name, self.count)
+        return live
 
 
 def assign(target, value, name):
@@ -277,21 +438,74 @@ def assign(target, value, name):
 
 # ------------------------------------------------------------- struct arrays
 
+_set = object.__setattr__       # a slot of a StructArray, past its __setattr__
+_LAYOUTS: dict = {}
+
+
+def _layout(wrapper):
+    """{C field: (dtype, shape, offset, strides)} of the fields of struct class
+    `wrapper` that have a view across entries (all but the members of an anonymous
+    union): one entry's field has that element dtype, shape and strides, at that
+    offset (mjContact.pos: float64, (3,), 8, (8,)).  From record_dtype, once."""
+    ctype = wrapper._ctype
+    layout = _LAYOUTS.get(ctype)
+    if layout is None:
+        layout = {}
+        for name, (dtype, offset, *_) in record_dtype(ctype).fields.items():
+            strides, step = [], dtype.base.itemsize
+            for n in reversed(dtype.shape):
+                strides.insert(0, step)
+                step *= n
+            layout[name] = (dtype.base, dtype.shape, offset, tuple(strides))
+        _LAYOUTS[ctype] = layout
+    return layout
+
+
+def _entries(pointer, count, step, root, size):
+    """The bytes of `count` entries of `size` bytes, `step` entries apart from
+    `pointer` on, as a uint8 array from the lowest; it keeps `root` alive."""
+    low = min(0, (count - 1) * step)
+    span = (abs((count - 1) * step) + 1) * size
+    return np.frombuffer(ffi.buffer(ffi.gc(pointer + low, _KeepAlive(root)), span), np.uint8)
+
+
+def _across(entries, count, step, size, spec):
+    """The view of one field (`spec`, see _layout) across `count` entries, `step`
+    apart, in `entries` (see _entries); a new empty array when there are none."""
+    dtype, shape, offset, strides = spec
+    if entries is None:
+        return np.zeros((count,) + shape, dtype)
+    first = -min(0, (count - 1) * step) * size
+    return np.ndarray((count,) + shape, dtype, buffer=entries, offset=first + offset,
+                      strides=(step * size,) + strides)
+
+
 class StructArray(Sequence):
     """A sequence of struct wrappers over C memory, e.g. `d.warning`.
 
     `arr[i]` is a wrapper sharing memory (a negative i counts from the end),
     `arr[a:b:c]` a StructArray of those entries, and `arr.field` a NumPy view
-    of that field across the entries, e.g. `d.contact.dist` of shape (ncon,).
-    Two are equal when they hold equal structs in the same order.
+    of that field across the entries, e.g. `d.contact.dist` of shape (ncon,),
+    made on first read and cached.  Two are equal when they hold equal structs in
+    the same order.
     """
 
-    __slots__ = ("_wrapper", "_pointer", "_count", "_root", "_step")
+    __slots__ = ("_wrapper", "_pointer", "_count", "_root", "_step", "_cache")
     __hash__ = None  # type: ignore[assignment]  # equal by value, and mutable
 
+    def __new__(cls, wrapper=None, *args):
+        """An instance of the class of `wrapper`'s arrays (_array_class), whose fields
+        are properties: no __getattr__, so that CPython reads its slots at full speed."""
+        if cls is StructArray and wrapper is not None:
+            cls = _array_class(wrapper)
+        return object.__new__(cls)
+
     def __init__(self, wrapper, pointer, count, root, step=1):
-        self._wrapper, self._pointer, self._count, self._root = wrapper, pointer, count, root
-        self._step = step
+        _set(self, "_wrapper", wrapper)
+        _set(self, "_pointer", pointer)
+        _set(self, "_count", count)
+        _set(self, "_root", root)
+        _set(self, "_step", step)
 
     def _span(self):
         """(pointer to entry 0, number of entries, stride in structs), as of now."""
@@ -335,16 +549,22 @@ class StructArray(Sequence):
     def _name(self):
         return f"_{self._wrapper.__name__}List"     # the official class name
 
-    def __getattr__(self, name):
-        if name.startswith("_"):
-            raise AttributeError(name)     # not built yet (copy, pickle): no recursion
-        if name not in self._wrapper._fields:
-            raise AttributeError(f"{self._name()!r} object has no attribute {name!r}")
+    def _field_view(self, name):
+        """The view of field `name` (a C name) across the entries, made once: the
+        entries of a StructArray never move."""
         try:
-            return self.records()[_cname_of(name)]
-        except (KeyError, ValueError):     # a member of an anonymous union (mjuiItem)
-            raise AttributeError(f"{name!r} of {self._name()} has no view across entries; "
-                                 f"read it from each entry") from None
+            cache = self._cache
+        except AttributeError:
+            cache = {}
+            _set(self, "_cache", cache)
+        value = cache.get(name)
+        if value is None:
+            pointer, count, step = self._span()
+            size = ffi.sizeof(self._wrapper._ctype)
+            entries = _entries(pointer, count, step, self._root, size) \
+                if count and pointer != ffi.NULL else None
+            value = cache[name] = _across(entries, count, step, size, _layout(self._wrapper)[name])
+        return value
 
     def __setattr__(self, name, value):
         if name.startswith("_"):
@@ -371,18 +591,160 @@ class StructArray(Sequence):
 
 
 class LiveStructArray(StructArray):
-    """A StructArray that reads its address and count from its owner on each use."""
+    """The array of structs that a struct points to (d.contact, scn.geoms), as it is
+    on each use: its address and count are read from the owner's struct.
 
-    __slots__ = ("_owner", "_field", "_counter")
+    The field views (`d.contact.dist`) and the entries (`d.contact[0]`) are cached
+    with a copy of the owner's words that define the array (its pointer and count,
+    see _key), compared on each read: a change of either makes new ones.  It holds
+    the owner's pointer and root, not the owner (which caches it: no cycle), and
+    follows the owner to new memory (mjv_makeScene; Struct._moved).  Made per
+    struct type (_live_class), with a property per field.
+    """
+
+    __slots__ = ("_ptr", "_field", "_counter", "_key", "_copy", "_views", "_items", "_base")
 
     def __init__(self, wrapper, owner, field, counter):
-        super().__init__(wrapper, None, 0, owner._root)
-        self._owner, self._field, self._counter = owner, field, counter
+        _set(self, "_wrapper", wrapper)
+        _set(self, "_step", 1)
+        _set(self, "_field", field)
+        _set(self, "_counter", counter)
+        self._follow(owner)
+
+    def _follow(self, owner):
+        """Read the array of `owner`'s struct from now on."""
+        offsets = _live_offsets(owner._ctype, self._field, self._counter)
+        _set(self, "_ptr", owner._ptr)            # what the count function reads (s._ptr)
+        _set(self, "_root", owner._root)
+        _set(self, "_key", _key(_words(owner), offsets))
+        self._reset()
+
+    def _reset(self):
+        _set(self, "_copy", None)
+        _set(self, "_pointer", None)
+        _set(self, "_count", 0)
+        _set(self, "_views", None)
+        _set(self, "_items", None)
+        _set(self, "_base", None)
+
+    def _sync(self):
+        """Up to date with the owner's struct: new caches if the key changed."""
+        if self._key == self._copy:
+            return
+        _set(self, "_copy", None)
+        copy = _snapshot(self._key)               # before reading what it defines
+        _set(self, "_pointer", getattr(self._ptr, self._field))
+        _set(self, "_count", self._counter(self))
+        _set(self, "_views", [None] * len(type(self)._names))
+        _set(self, "_items", {})
+        _set(self, "_base", None)
+        _set(self, "_copy", copy)                 # last: what it checks is all new
 
     def _span(self):
-        owner = self._owner
-        self._root = owner._root     # the owner's memory as of now (mjv_makeScene gives new)
-        return getattr(owner._ptr, self._field), self._counter(owner), 1
+        self._sync()
+        return self._pointer, self._count, 1
+
+    def _live_view(self, index):
+        """The view of field number `index` (of _names) across the entries."""
+        self._sync()
+        value = self._views[index]
+        if value is None:
+            count, size = self._count, ffi.sizeof(self._wrapper._ctype)
+            if self._base is None and count and self._pointer != ffi.NULL:
+                _set(self, "_base", _entries(self._pointer, count, 1, self._root, size))
+            spec = _layout(self._wrapper)[type(self)._names[index]]
+            value = self._views[index] = _across(self._base, count, 1, size, spec)
+        return value
+
+    def __getitem__(self, index):
+        if index.__class__ is int and self._key == self._copy:
+            item = self._items.get(index)
+            if item is not None:
+                return item
+        item = StructArray.__getitem__(self, index)       # in sync now
+        if index.__class__ is int:
+            self._items[index] = item
+        return item
+
+    def __copy__(self):
+        other = type(self).__new__(type(self))
+        for name in ("_wrapper", "_step", "_field", "_counter", "_ptr", "_root", "_key"):
+            _set(other, name, getattr(self, name))
+        other._reset()
+        return other
+
+    def __deepcopy__(self, memo):
+        raise TypeError(f"cannot pickle {self._name()!r} object")   # as the official
+
+    def __reduce__(self):
+        raise TypeError(f"cannot pickle {self._name()!r} object")
+
+
+_LIVE_OFFSETS: dict = {}
+
+
+def _live_offsets(ctype, field, counter):
+    """The byte offsets of the words that define a LiveStructArray (see _sizing)."""
+    offsets = _LIVE_OFFSETS.get((ctype, field))
+    if offsets is None:
+        offsets = _LIVE_OFFSETS[ctype, field] = _sizing(counter, ctype, field)[0]
+    return offsets
+
+
+_CLASSES: dict = {}         # (StructArray or LiveStructArray, struct class) -> its class
+
+
+def _live_field(index):
+    """The getter of field number `index` of a LiveStructArray class."""
+    def get(arr):
+        if arr._key == arr._copy:
+            value = arr._views[index]
+            if value is not None:
+                return value
+        return arr._live_view(index)
+    return get
+
+
+def _static_field(name):
+    """The getter of field `name` (a C name) of a StructArray class."""
+    def get(arr):
+        return arr._field_view(name)
+    return get
+
+
+def _no_view(attr):
+    """The getter of a member of an anonymous union (mjuiItem), which has no view."""
+    def get(arr):
+        raise AttributeError(f"{attr!r} of {arr._name()} has no view across entries; "
+                             f"read it from each entry")
+    return get
+
+
+def _array_class(wrapper, base=None):
+    """The StructArray (or LiveStructArray) class of struct class `wrapper`, named
+    as the official's (_MjContactList), with a property per field."""
+    base = base or StructArray
+    cls = _CLASSES.get((base, wrapper))
+    if cls is None:
+        layout = _layout(wrapper)
+        names = tuple(_cname_of(attr) for attr in wrapper._fields
+                      if _cname_of(attr) in layout)
+        body = {"__slots__": (), "__module__": __name__, "_names": names}
+        for attr in wrapper._fields:
+            name = _cname_of(attr)
+            if name not in layout:
+                get = _no_view(attr)
+            elif base is LiveStructArray:
+                get = _live_field(names.index(name))
+            else:
+                get = _static_field(name)
+            body[attr] = property(get, doc=getattr(getattr(wrapper, attr, None), "__doc__", None))
+        cls = _CLASSES[base, wrapper] = type(base)(f"_{wrapper.__name__}List", (base,), body)
+    return cls
+
+
+def _live_class(wrapper):
+    return _array_class(wrapper, LiveStructArray)
 
 
 def _cname_of(attr):
@@ -462,7 +824,10 @@ class Struct(metaclass=StructType):
 
     def _adopt(self, pointer, root, extra):
         state = self.__dict__
+        moved = "_ptr" in state
         state.update(_ptr=pointer, _root=root, **extra)
+        if moved:
+            self._moved()
         for name, field in self._eager.items():
             state[name] = field.build(self)
         if self._capacities or self._allocated_views:
@@ -490,6 +855,17 @@ class Struct(metaclass=StructType):
                 size *= n
             self.__dict__["_allocated"][name] = size
 
+    def _moved(self):
+        """The wrapper now shows a struct in new memory (mjcffi's mjv_makeScene): the
+        views of moving memory cached from the old one go (see DynamicArray), and
+        the LiveStructArrays it gave follow it."""
+        state = self.__dict__
+        state.pop("_words", None)
+        state.pop("_dyn", None)
+        for value in list(state.values()):
+            if isinstance(value, LiveStructArray):
+                value._follow(self)
+
     def _reallocated(self):
         """Whether MuJoCo changed a count of `_capacities` behind our back (made or
         freed the struct again); if so, record the new allocation (see _remade)."""
@@ -511,7 +887,9 @@ class Struct(metaclass=StructType):
             getattr(self, name)._copy_from(value)
         elif isinstance(field, Array) and not isinstance(field, DynamicArray):
             assign(getattr(self, name), value, name)
-        elif name.startswith("_") or isinstance(field, (property, DynamicArray, Records)):
+        elif isinstance(field, Records):
+            raise AttributeError(f"{type(self).__name__}.{name} cannot be assigned")
+        elif name.startswith("_") or isinstance(field, property):
             object.__setattr__(self, name, value)   # setters, and read-only errors
         elif field is None:
             raise AttributeError(f"{type(self).__name__} has no field {name!r}")
@@ -775,6 +1153,8 @@ def struct_pointer(obj, cname, argname):
     """The C pointer of wrapper `obj`, which must wrap a `cname` (an instance, not
     the class)."""
     if getattr(obj, "_cname", None) != cname or isinstance(obj, type):
+        if _official.is_official(obj):     # both bindings have an MjModel: say which
+            raise _official.not_accepted(argname, cname[0].upper() + cname[1:], obj)
         what = f"the class {obj.__name__}" if isinstance(obj, type) else type(obj).__name__
         raise TypeError(f"{argname} must be {cname[0].upper() + cname[1:]}, not {what}")
     return obj._ptr
