@@ -6,6 +6,7 @@ pickled.
 """
 
 from ._support import loading as _loading
+from ._support import official_pickle as _official_pickle
 from . import vfs as _vfs
 from ._support.library import ffi, lib
 from ._support.views import guarded_result
@@ -108,6 +109,17 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
 
     def __reduce__(self):
         return (type(self).from_bytes, (self.to_bytes(),))
+
+    def __setstate__(self, state):
+        """Load an official bindings' pickle of an MjModel: it names
+        `mujoco._structs.MjModel`, which is this class under `sys.modules['mujoco'] =
+        mjcffi` (mjcffi/_support/official_pickle.py).  mjcffi's own pickles never
+        come here (__reduce__)."""
+        if "_ptr" in self.__dict__:
+            raise ValueError("Invalid serialized mjModel: the MjModel is loaded already")
+        root = _loading.load_binary_bytes(_official_pickle.model_mjb(state), _NOT_MJB)
+        self._init_root(root)
+        _track(self)
 
     def _repr_html_(self):
         """Jupyter's display: the model's name, its sizes (nq, nv, nu, nbody and the

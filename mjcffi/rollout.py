@@ -33,6 +33,7 @@ import weakref
 import numpy as np
 
 from ._support import contract as _contract, interrupt as _interrupt, marshal as _marshal
+from ._support import official as _official, stack as _stack
 from ._generated.enums import mjtState
 from ._support.errors import FatalError, raise_pending, with_note
 from ._support.library import ffi, lib
@@ -326,9 +327,15 @@ class Rollout:
                             "a Rollout waits for the callbacks of its call, so they may not "
                             "call it; give the callback a Rollout of its own")
         # a Python callback's exception on the pool's threads is this call's
-        claim = _contract.scope(datas) if _contract.python_callbacks and len(datas) > 1 else None
-        self._callers.add(me)
+        claim = _contract.claim(datas) if _contract.python_callbacks and len(datas) > 1 else None
+        scopes = _contract.scopes
+        # Each claim is taken inside the `try` whose `finally` releases it, each release
+        # the first call of a `finally` of its own: a KeyboardInterrupt at any bytecode
+        # leaves neither this thread in _callers nor the claim in force.
         try:
+            if claim is not None:
+                scopes.append(claim)
+            self._callers.add(me)
             nfailed = lib.mjcffi_rollout(
                 pool, m, len(m), ffi.new("mjData*[]", datas), nbatch, nstep, control_spec,
                 min(chunk_size, _INT_MAX), _pointer(state0), state0_stride,
@@ -337,9 +344,14 @@ class Rollout:
                 _pointer(state), _pointer(sensordata),
                 ffi.from_buffer("unsigned char[]", failed), message, _MESSAGE_SIZE)
         finally:
-            self._callers.discard(me)
-            if claim is not None:
-                _contract.unscope(claim)
+            try:
+                self._callers.discard(me)
+            finally:
+                if claim is not None and claim in scopes:
+                    scopes.remove(claim)
+        if _stack.live:          # a bad state's reset, or a failed rollout's, empties the stack
+            for d in datas:
+                _stack.sweep(d)
         if nfailed == _REFUSED:        # a callback of this pool's call called it
             raise_pending()
         if nfailed == _INTERRUPTED:
@@ -408,6 +420,8 @@ def _models(model):
     """An MjModel as itself, any other iterable as a list of MjModels."""
     if _is_model(model):
         return model
+    if _official.is_official(model):     # both bindings have an MjModel: say which
+        raise _official.not_accepted("model", "MjModel", model)
     try:
         models = list(model)
     except TypeError:
@@ -415,6 +429,8 @@ def _models(model):
                         f"{_kind(model)}") from None
     for i, m in enumerate(models):
         if not _is_model(m):
+            if _official.is_official(m):
+                raise _official.not_accepted(f"model[{i}]", "MjModel", m)
             raise TypeError(f"model[{i}] must be an MjModel, not {_kind(m)}")
     if not models:
         raise ValueError("model is an empty sequence")

@@ -8,11 +8,14 @@
 
 Each mutant is a few exact source edits: (file, old text, new text).  The tree
 is copied once to a temporary folder (the files git tracks or would track, and
-the compiled mjcffi/_mjcffi*.so as it is: nothing is rebuilt), and that
-snapshot again for each mutant; the edits are applied in the mutant's copy,
-and its tests run there with `python -m pytest -x`, so that `import mjcffi`
-imports the copy (checked once).  The working tree is never touched, and
-other work going on in it meanwhile plays no part.
+the compiled mjcffi/_mjcffi*.so as it is), and that snapshot again for each
+mutant; the edits are applied in the mutant's copy, and its tests run there
+with `python -m pytest -x`, so that `import mjcffi` imports the copy (checked
+once).  The working tree is never touched, and other work going on in it
+meanwhile plays no part.
+
+A mutant of the C in mjcffi/_c/ is rebuilt: `python setup.py build_ext --inplace`
+compiles the mutated module in its copy (about half a minute) before its tests run.
 
 A mutant of codegen/ is regenerated: `python -m codegen --out` runs with the
 mutated and with the unmutated generator, and the generated files that differ
@@ -21,8 +24,8 @@ are written into the copy (so that other drift in the tree plays no part).
 Verdicts: `caught` (a test failed; the first one is named), `crashed` (the
 test process died, which fails the suite too), `timeout`, `missed` (every
 test passed), `stale` (an edit's old text is no longer in the file exactly
-once: update the list), `broken` (pytest could not run the tests: an error
-of the mutant itself or of the selection).  Before the mutants, the tests of
+once: update the list), `broken` (pytest could not run the tests, or the C
+did not compile: an error of the mutant itself or of the selection).  Before the mutants, the tests of
 every selected mutant run once on the unmutated copy and must pass; else no
 verdict would mean anything: a test that fails there (work in progress in the
 tree, say) is listed and deselected from every mutant's run.  The exit status
@@ -49,12 +52,14 @@ class Mutant:
     edits: tuple                  # ((path, old, new), ...)
     tests: tuple                  # pytest selections (files, node ids) expected to catch it
     regenerate: bool = False      # a codegen/ edit: regenerate the generated files
+    rebuild: bool = False         # an mjcffi/_c/ edit: compile the module again
 
 
 def _mutant(name, what, edits, tests, regenerate=False):
     if isinstance(edits[0], str):
         edits = (edits,)
-    return Mutant(name, what, tuple(edits), tuple(tests), regenerate)
+    rebuild = any(path.startswith("mjcffi/_c/") for path, _, _ in edits)
+    return Mutant(name, what, tuple(edits), tuple(tests), regenerate, rebuild)
 
 
 # --------------------------------------------------------------- the mutants
@@ -223,6 +228,31 @@ MUTANTS = [
         "name2id_memo_keys_floats", "mj_name2id's memo answers a float type",
         ("mjcffi/functions/_overrides.py", "_OBJECT_TYPES = (int, mjtObj)", "_OBJECT_TYPES = (int, mjtObj, float)"),
         ["tests/test_prepared.py"]),
+    # -- Ctrl-C, claims and fork (issue 34)
+    _mutant(
+        "step_stopped_ignored", "an mj_step loop that a SIGINT stopped early returns quietly",
+        ("mjcffi/_support/marshal.py", "    if status != _STOPPED:\n        return check(status)",
+         "    if True:\n        return check(0 if status == _STOPPED else status)"),
+        ["tests/test_interrupt.py::"
+         "test_a_sigint_handler_that_does_not_raise_still_stops_the_loop_loudly"]),
+    _mutant(
+        "rollout_data_unclaimed", "a rollout does not hold its MjData",
+        ("mjcffi/_c/rollout.c", "rollout_work, &job, d, pool ? pool->nthread : 1,",
+         "rollout_work, &job, d, 0,"),
+        ["tests/test_rollout_claims.py"]),
+    _mutant(
+        "rollout_claim_not_adopted", "a rollout's pool thread leaves its data's claim the caller's",
+        ("mjcffi/_c/rollout.c", "    mjcffi_data_adopt(d);", "    (void)d;"),
+        ["tests/test_rollout_claims.py"]),
+    _mutant(
+        "fork_handler_off", "the claim table has no fork handler",
+        ("mjcffi/_c/claims.c", "  pthread_atfork(claims_before_fork,",
+         "  if (0) pthread_atfork(claims_before_fork,"),
+        ["tests/test_fork.py"]),
+    _mutant(
+        "batch_fork_unrefused", "a Batch with threads made before fork is called in the child",
+        ("mjcffi/batch/_batch.py", "            _threaded.add(self)", "            pass"),
+        ["tests/test_fork.py"]),
 ]
 
 
@@ -277,6 +307,16 @@ def _codegen(tree, out):
     if run.returncode:
         raise RuntimeError(f"codegen failed:\n{run.stderr[-3000:]}")
     return {str(p.relative_to(out)): p.read_text() for p in out.rglob("*") if p.is_file()}
+
+
+def _rebuild(tree):
+    """Compile the (mutated) C module in `tree`; None, or the compiler's complaint."""
+    run = subprocess.run([sys.executable, "setup.py", "build_ext", "--inplace"], cwd=tree,
+                         env=_env(), capture_output=True, text=True)
+    if run.returncode:
+        errors = [line for line in run.stderr.splitlines() if "error" in line]
+        return (errors or run.stderr.splitlines() or ["no output"])[-1]
+    return None
 
 
 def _regenerate(tree, baseline, scratch):
@@ -350,6 +390,11 @@ def run_mutant(mutant, files, pristine, baseline, tests, timeout):
                               time.monotonic() - start)
             if not changed:
                 return Result(mutant, "missed", "the generated files do not change",
+                              time.monotonic() - start)
+        if mutant.rebuild:
+            failed = _rebuild(tree)
+            if failed:
+                return Result(mutant, "broken", f"the C does not compile: {failed}",
                               time.monotonic() - start)
         code, output = _pytest(tree, tests, timeout)
         verdict, detail = _verdict(code, output)

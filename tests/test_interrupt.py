@@ -37,6 +37,7 @@ def _run(run_python, body, timeout=120):
 
 def test_ctrl_c_stops_mj_step_at_a_step_boundary(run_python):
     out = _run(run_python, """
+        mjcffi.mj_step(m, mjcffi.MjData(m))   # warm: the first call imports the functions
         d = mjcffi.MjData(m)
         d.ctrl[0] = 0.5
         interrupt_in(0.5)
@@ -157,3 +158,110 @@ def test_a_step_off_the_main_thread_is_never_stopped(run_python, nstep):
         print("steps", round(d.time / m.opt.timestep))
         """.replace("\n        ", "\n"))
     assert f"steps {100000 * nstep}" in out, out
+
+
+# MjSimPool on Python threads (a Python substep callback, or a Python mjcb_* callback):
+# Ctrl-C stops every share at its next step, not only the calling thread's.
+_PYTHON_POOL = """
+    from mjcffi.sim import MjSim, MjSimPool
+    import collections
+    N = {nsubsteps}
+    calls, fired = collections.Counter(), []
+
+    def count(*args):              # each step's Python: the SIGINT once both threads ran 1000
+        calls[threading.get_ident()] += 1
+        if len(calls) == 2 and min(calls.values()) >= 1000 and not fired:
+            fired.append(1)
+            os.kill(os.getpid(), signal.SIGINT)
+    {setup}
+    pool = MjSimPool(sims, nsubsteps=2, nthreads=2)
+    pool.step()                    # warm: the threads started
+    before = sum(round(s.data.time / m.opt.timestep) for s in sims)
+    calls.clear()
+    pool.nsubsteps = N
+    try:
+        pool.step()
+        print("not interrupted")
+    except KeyboardInterrupt:
+        pass
+    done = sum(round(s.data.time / m.opt.timestep) for s in sims) - before
+    print("done", done, "requested", N * len(sims))
+    times = [s.data.time for s in sims]
+    pool.nsubsteps = 2
+    pool.step()
+    print("stepped", all(s.data.time > t for s, t in zip(sims, times)))
+    """
+
+
+@pytest.mark.parametrize("setup", [
+    "sims = [MjSim(m, substep_callback=count) for _ in range(3)]",
+    "sims = [MjSim(m) for _ in range(3)]\n    mjcffi.set_mjcb_control(count)",
+], ids=["substep callback", "mjcb callback"])
+def test_ctrl_c_stops_every_python_thread_of_an_mjsimpool(run_python, setup):
+    """The calling thread sees the SIGINT; the other threads stop at their next step
+    instead of finishing their shares (which took 4.5-12 s)."""
+    nsubsteps = 10**6
+    out = _run(run_python, _PYTHON_POOL.format(nsubsteps=nsubsteps, setup=setup)
+               .replace("\n    ", "\n"), timeout=600)
+    done = int(out.split("done ")[1].split()[0])
+    requested = int(out.split("requested ")[1].split()[0])
+    # one thread's share alone is a third of the work: most must be left undone
+    assert 0 < done < requested // 10, out
+    assert "stepped True" in out, out
+
+
+# How each long loop of mj_step is called: the hot path, the checked path (d made for
+# another MjModel of the same sizes), the prepared call, and MjSim.step's substeps,
+# plain and with a C substep callback.  `d` is the data the loop steps.
+LOOPS = {
+    "mj_step": ("d = mjcffi.MjData(m)", "mjcffi.mj_step(m, d, NSTEP)"),
+    "mj_step checked": ("d = mjcffi.MjData(m); twin = mjcffi.MjModel.from_xml_string(XML)",
+                        "mjcffi.mj_step(twin, d, NSTEP)"),
+    "mj_step prepared": ("d = mjcffi.MjData(m)", "mjcffi.mj_step.prepare(m, d, NSTEP)()"),
+    "MjSim.step": ("from mjcffi.sim import MjSim; sim = MjSim(m, nsubsteps=NSTEP); d = sim.data",
+                   "sim.step()"),
+    "MjSim.step C substeps": (
+        "from mjcffi.sim import MjSim; from mjcffi._support.library import ffi, lib; "
+        "sim = MjSim(m, nsubsteps=NSTEP, substep_callback=ffi.cast("
+        "'mjfGeneric', ffi.addressof(lib, 'mj_energyPos'))); d = sim.data",
+        "sim.step()"),
+}
+
+
+@pytest.mark.parametrize("loop", list(LOOPS))
+def test_a_sigint_handler_that_does_not_raise_still_stops_the_loop_loudly(run_python, loop):
+    """A SIGINT handler of the user's own that raises nothing: the loop stops at a step
+    boundary, the handler runs, and KeyboardInterrupt says the steps are not all done
+    (the call used to return as if they were)."""
+    make, call = LOOPS[loop]
+    out = _run(run_python, f"""
+        NSTEP = 10**8
+        got = []
+        signal.signal(signal.SIGINT, lambda signo, frame: got.append(signo))
+        {make}
+        d.ctrl[0] = 0.5
+        mjcffi.mj_step(m, d, 1)                   # warm: the loop below is all stepping
+        start = d.time
+
+        def fire():                               # once the loop is under way
+            while d.time < start + 100 * m.opt.timestep:
+                time.sleep(0.001)
+            os.kill(os.getpid(), signal.SIGINT)
+        threading.Thread(target=fire, daemon=True).start()
+        try:
+            {call}
+            print("returned normally")
+        except KeyboardInterrupt as exc:
+            print("interrupted:", exc)
+        steps = round(d.time / m.opt.timestep)
+        again = mjcffi.MjData(m)
+        again.ctrl[0] = 0.5
+        mjcffi.mj_step(m, again, steps)
+        print("steps", steps, "whole", again.time == d.time and
+              np.array_equal(again.qpos, d.qpos) and np.array_equal(again.qvel, d.qvel),
+              "handler", got)
+        """.replace("\n        ", "\n"))
+    assert "interrupted:" in out and "outputs are incomplete" in out, out
+    steps = int(out.split("steps ")[1].split()[0])
+    assert 100 < steps < 10**8, out
+    assert "whole True" in out and "handler [2]" in out, out

@@ -68,6 +68,18 @@ def test_add_keeps_buffers_alive_and_pinned():
         kept.resize(100, refcheck=False)
 
 
+def test_a_pdata_array_cannot_be_resized_even_without_refcheck():
+    """A cffi buffer export does not stop NumPy's resize(refcheck=False): the MjUI
+    holds a weak reference to the array, for which NumPy refuses it (the test above
+    holds one itself)."""
+    ui = _ui()
+    value = np.zeros(1)
+    mjcffi.mjui_add(ui, [SECTION, (I.mjITEM_SLIDERNUM, "s", 2, value, "0 1")])
+    with pytest.raises(ValueError, match="resize"):
+        value.resize(10**6, refcheck=False)
+    assert int(ffi.cast("uintptr_t", ui.sect[0].item[0].pdata)) == value.ctypes.data
+
+
 BAD = [
     ("not a sequence", 5, TypeError, "sequence of definitions"),
     ("a str", "abc", TypeError, "sequence of definitions"),

@@ -546,7 +546,8 @@ def test_wrong_data(scene, mujoco):
     other = mjcffi.MjModel.from_xml_string(PENDULUM)
     with pytest.raises(ValueError, match=r"data\[0\] was made for a model of other sizes"):
         rollout.rollout(scene.cm, mjcffi.MjData(other), initial)
-    with pytest.raises(TypeError, match=r"data\[0\] must be MjData"):
+    with pytest.raises(TypeError, match=r"data\[0\] must be an mjcffi\.MjData, not "
+                                        r"mujoco\._structs\.MjData: objects of the official"):
         rollout.rollout(scene.cm, scene.mujoco.MjData(scene.om), initial)
     pooled = [mjcffi.MjData(scene.cm) for _ in range(2)]
     mjcffi.mju_threadpool(pooled[1], 2)
@@ -558,7 +559,8 @@ def test_wrong_models(scene):
     initial, d = scene.initial_states(2), mjcffi.MjData(scene.cm)
     with pytest.raises(TypeError, match="model must be an MjModel"):
         rollout.rollout(3, d, initial)
-    with pytest.raises(TypeError, match=r"model\[1\] must be an MjModel"):
+    with pytest.raises(TypeError, match=r"model\[1\] must be an mjcffi\.MjModel, not "
+                                        r"mujoco\._structs\.MjModel"):
         rollout.rollout([scene.cm, scene.om], d, initial)
     with pytest.raises(ValueError, match="nbatch inferred as 2 but model is length 3"):
         rollout.rollout([scene.cm] * 3, d, initial)

@@ -1,5 +1,6 @@
-// The claims: one call at a time on an mjData, and one thread at a time on an mjSpec.
-// Declared in guard_chain.h (C) and claims.h (the spec claims, for Python too).
+// The claims: one call at a time on an mjData, and one thread at a time on an mjSpec;
+// in a forked child, only the forking thread's.  Declared in guard_chain.h (C) and
+// claims.h (the spec claims, for Python too).
 
 #include <pthread.h>
 #include <stdio.h>
@@ -21,10 +22,13 @@
 // (mj_step, mj_forward, mj_resetData, ...): inside the call that is computing d, they
 // would pull the contacts and constraint rows from under it.
 
+typedef enum {CLAIM_DATA, CLAIM_SPEC, CLAIM_BATCH} mjcffi_claim_kind;
+
 typedef struct {
-  const void* key;              // the mjData or mjSpec held
+  const void* key;              // the mjData, mjSpec or mjBatch held
   pthread_t owner;
   int depth;                    // calls on it on the owner's thread, nested
+  mjcffi_claim_kind kind;       // what key is: a fork recounts the specs held
 } mjcffi_claim;
 
 #define MJCFFI_MAX_CLAIMS 1024  // mjData and mjSpec held at once, all threads together
@@ -68,7 +72,7 @@ int mjcffi_data_enter(const mjData* d, int restarts, const char* func) {
   int i = find_claim(d);
   if (i == nclaims) {
     if (nclaims < MJCFFI_MAX_CLAIMS) {
-      claims[nclaims++] = (mjcffi_claim){d, self, 1};
+      claims[nclaims++] = (mjcffi_claim){d, self, 1, CLAIM_DATA};
     } else {
       why = "more mjData are in MuJoCo calls at once than mjcffi can track (1024)";
     }
@@ -96,6 +100,18 @@ void mjcffi_data_leave(const mjData* d) {
   pthread_mutex_unlock(&claims_lock);
 }
 
+// A rollout's caller holds every mjData of the call; a pool thread rolling out on one
+// takes over its claim, so that a callback on that thread is judged as on the caller's
+// (it may nest, and may not restart d's pipeline).  The caller's leave drops it.
+void mjcffi_data_adopt(const mjData* d) {
+  pthread_mutex_lock(&claims_lock);
+  int i = find_claim(d);
+  if (i < nclaims) {
+    claims[i].owner = pthread_self();
+  }
+  pthread_mutex_unlock(&claims_lock);
+}
+
 //---------------------------------- one thread per mjSpec -----------------------------------------
 //
 // MuJoCo's spec functions keep no lock either: a compile on one thread beside a compile or
@@ -120,7 +136,7 @@ int mjcffi_spec_enter(const mjSpec* s, const char* func) {
   int i = find_claim(s);
   if (i == nclaims) {
     if (nclaims < MJCFFI_MAX_CLAIMS) {
-      claims[nclaims++] = (mjcffi_claim){s, self, 1};
+      claims[nclaims++] = (mjcffi_claim){s, self, 1, CLAIM_SPEC};
       __atomic_add_fetch(&mjcffi_spec_holds, 1, __ATOMIC_RELAXED);
     } else {
       why = "more mjData and mjSpec are in MuJoCo calls at once than mjcffi can track (1024)";
@@ -172,7 +188,7 @@ int mjcffi_batch_enter(const mjBatch* b, const char* func) {
   if (find_claim(b) < nclaims) {
     busy = 1;
   } else if (nclaims < MJCFFI_MAX_CLAIMS) {
-    claims[nclaims++] = (mjcffi_claim){b, pthread_self(), 1};
+    claims[nclaims++] = (mjcffi_claim){b, pthread_self(), 1, CLAIM_BATCH};
   } else {
     busy = 2;
   }
@@ -194,4 +210,41 @@ void mjcffi_batch_leave(const mjBatch* b) {
   pthread_mutex_lock(&claims_lock);
   drop_claim(b);
   pthread_mutex_unlock(&claims_lock);
+}
+
+
+//---------------------------------- fork ----------------------------------------------------------
+//
+// fork() copies the calling thread alone.  claims_lock, held by another thread at that
+// moment, would stay held in the child forever, and so would the claims of threads that
+// do not exist there: the child could never use their mjData.  So the lock is taken
+// across the fork, and the child keeps only the forking thread's claims.
+
+static void claims_before_fork(void) {
+  pthread_mutex_lock(&claims_lock);
+}
+
+static void claims_after_fork_in_parent(void) {
+  pthread_mutex_unlock(&claims_lock);
+}
+
+static void claims_after_fork_in_child(void) {
+  pthread_mutex_init(&claims_lock, NULL);
+  pthread_t self = pthread_self();
+  int specs = 0;
+  int i = 0;
+  while (i < nclaims) {
+    if (!pthread_equal(claims[i].owner, self)) {
+      claims[i] = claims[--nclaims];
+      continue;
+    }
+    specs += claims[i].kind == CLAIM_SPEC;
+    i++;
+  }
+  __atomic_store_n(&mjcffi_spec_holds, specs, __ATOMIC_RELAXED);
+}
+
+// Once, as the module is loaded: before any claim can be taken.
+__attribute__((constructor)) static void claims_register_fork_handlers(void) {
+  pthread_atfork(claims_before_fork, claims_after_fork_in_parent, claims_after_fork_in_child);
 }

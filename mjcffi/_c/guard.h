@@ -25,13 +25,16 @@ const char* mjcffi_take_error(void);
 int mjcffi_error_kind(void);
 
 /* mj_step(m, d) nstep times under one guard (cffi releases the GIL around
-   it): 0 when all steps ran, 1 when an mju_error was caught.  After 1, d is
-   left mid-step; see mjcffi/_support/errors.py for how to make it usable again. */
+   it): 0 when all steps ran, 1 when an mju_error was caught, MJCFFI_STEP_STOPPED
+   when a SIGINT on the main thread stopped the loop before its last step (the
+   steps done stay; interrupt.h).  After 1, d is left mid-step; see
+   mjcffi/_support/errors.py for how to make it usable again. */
+#define MJCFFI_STEP_STOPPED 2
 int mjcffi_step(const mjModel* m, mjData* d, int nstep);
 
 /* mujoco-py's substeps: nstep times fn(m, d) (when fn is not NULL) then mj_step(m, d),
    under one guard as mjcffi_step (mju_error in fn is caught too).  nstep 0: fn once,
-   no step.  0, or 1 when an error was caught or d is busy. */
+   no step.  0, 1 when an error was caught or d is busy, or MJCFFI_STEP_STOPPED. */
 int mjcffi_step_substep(const mjModel* m, mjData* d, int nstep, mjfGeneric fn);
 
 /* Their loop, stopped by a SIGINT after `token` (interrupt.h; -1: never): for the pool

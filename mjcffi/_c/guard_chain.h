@@ -26,6 +26,10 @@ void mjcffi_guard_enter(mjcffi_guard* guard);
 int mjcffi_data_enter(const mjData* d, int restarts, const char* func);
 void mjcffi_data_leave(const mjData* d);
 
+/* For a thread working for the caller that holds d (a rollout pool's): d's claim becomes
+   this thread's, for the rest of the call; the caller's mjcffi_data_leave drops it. */
+void mjcffi_data_adopt(const mjData* d);
+
 /* Hold batch b for a call (b may be NULL): 0, or 1 with MJCFFI_ERROR_POOL_REENTRY pending
    when a call holds it already, on any thread.  Each 0 is matched by mjcffi_batch_leave. */
 int mjcffi_batch_enter(const mjBatch* b, const char* func);

@@ -162,6 +162,9 @@ static void rollout_work(void* arg, int thread, rollout_failures* failures) {
   mjData* d = job->d[thread];
   const mjModel* m = job->m[0];
   int spec = job->control_spec;
+  if (thread) {
+    mjcffi_data_adopt(d);     // the caller holds it: its callbacks here are judged as there
+  }
   for (;;) {
     int chunk = atomic_fetch_add_explicit(&job->next, 1, memory_order_relaxed);
     if (chunk >= job->nchunk || mjcffi_interrupted(job->token)) {
@@ -410,17 +413,43 @@ static void work_share(mjcffi_rollout_pool* pool, pool_work work, void* job,
   running_pool = outer;
 }
 
+// Hold the `n` mjData of a call for this thread (claims.c), all or none: 0, or 1 with
+// the refusal pending.
+static int hold_data(mjData* const* d, int n, const char* func) {
+  for (int i = 0; i < n; i++) {
+    if (mjcffi_data_enter(d[i], 1, func)) {
+      while (i--) mjcffi_data_leave(d[i]);
+      return 1;
+    }
+  }
+  return 0;
+}
+
+static void release_data(mjData* const* d, int n) {
+  for (int i = 0; i < n; i++) {
+    mjcffi_data_leave(d[i]);
+  }
+}
+
 // Run `job` on every thread of `pool` (or on the calling thread alone, when
-// `alone` or without a pool); its failures end up in `result`.  0, or 1 when the
-// pool refused the call (see take_pool).
+// `alone` or without a pool), holding the `nheld` mjData `held` for its duration
+// (taken once it is this call's turn on the pool: calls on one pool wait for each
+// other, not refuse); its failures end up in `result`.  0, or 1 when the call was
+// refused (see take_pool, hold_data).
 static int run_job(mjcffi_rollout_pool* pool, int alone, pool_work work, void* job,
-                   rollout_failures* result, const char* func) {
+                   mjData* const* held, int nheld, rollout_failures* result,
+                   const char* func) {
   result->nfailed = 0;
   if (pool && take_pool(pool, func)) {
     return 1;
   }
+  if (hold_data(held, nheld, func)) {
+    if (pool) pthread_mutex_unlock(&pool->call);
+    return 1;
+  }
   if (!pool || alone) {
     work_share(pool, work, job, result);
+    release_data(held, nheld);
     if (pool) pthread_mutex_unlock(&pool->call);
     return 0;
   }
@@ -454,6 +483,7 @@ static int run_job(mjcffi_rollout_pool* pool, int alone, pool_work work, void* j
   for (int i = 0; i < pool->nthread; i++) {
     merge_failures(result, &pool->failures[i]);
   }
+  release_data(held, nheld);
   pthread_mutex_unlock(&pool->call);
   return 0;
 }
@@ -491,9 +521,11 @@ int mjcffi_rollout(mjcffi_rollout_pool* pool,
   atomic_init(&job.next, 0);
   job.token = mjcffi_interrupt_token();
 
-  // one chunk needs no other thread; d[0] is this thread's data
+  // one chunk needs no other thread; d[0] is this thread's data.  Every d is held, as
+  // mj_step holds its own: MuJoCo's mj_step inside does not claim it
   rollout_failures result;
-  if (run_job(pool, job.nchunk == 1, rollout_work, &job, &result, "rollout")) {
+  if (run_job(pool, job.nchunk == 1, rollout_work, &job, d, pool ? pool->nthread : 1,
+              &result, "rollout")) {
     return -1;
   }
   if (mjcffi_interrupted(job.token)) {
@@ -531,7 +563,8 @@ static void sim_work(void* arg, int thread, rollout_failures* failures) {
         ? mjcffi_guard_mj_forward(job->m[i], job->d[i])
         : mjcffi_step_loop(job->m[i], job->d[i], job->nsubsteps,
                            job->substep ? job->substep[i] : NULL, job->token);
-    if (caught) {
+    // a sim that a SIGINT stopped has not failed: the call as a whole returns -2
+    if (caught && caught != MJCFFI_STEP_STOPPED) {
       int kind = mjcffi_error_kind();
       job->status[i] = (unsigned char)(1 + kind);
       note_failure(failures, i, kind, mjcffi_take_error());
@@ -555,8 +588,8 @@ int mjcffi_sim_pool_run(mjcffi_rollout_pool* pool,
     status[i] = 0;
   }
   job.token = forward ? -1 : mjcffi_interrupt_token();
-  rollout_failures result;
-  if (run_job(pool, nsim == 1, sim_work, &job, &result, "MjSimPool")) {
+  rollout_failures result;     // each sim's step or forward holds its own d
+  if (run_job(pool, nsim == 1, sim_work, &job, NULL, 0, &result, "MjSimPool")) {
     return -1;
   }
   if (mjcffi_interrupted(job.token)) {

@@ -30,11 +30,15 @@ void mjcffi_rollout_pool_free(mjcffi_rollout_pool* pool);
    d holds nthread data (the pool's, or 1 without a pool); chunk_size
    rollouts at a time go to each thread.  Calls on one pool run one after
    the other, but a call from a callback of a pool's job into that pool, or
-   into a busy one, is refused.  A SIGINT on the main thread (interrupt.h)
-   stops every rollout at its next step.  Returns the number of failed
-   rollouts, and copies the message of the lowest failed one into message
-   (message_size bytes); -1 when the pool refused the call (the error is
-   pending, MJCFFI_ERROR_POOL_REENTRY), -2 when a SIGINT stopped it. */
+   into a busy one, is refused.  Each d is held for the call, as mj_step
+   holds its own (guard_chain.h): a d in a call on another thread refuses
+   the rollout, and a callback of the rollout may not step, forward or reset
+   the d it runs on, nor another thread's call use any d.  A SIGINT on the
+   main thread (interrupt.h) stops every rollout at its next step.  Returns
+   the number of failed rollouts, and copies the message of the lowest failed
+   one into message (message_size bytes); -1 when refused (the error is
+   pending: MJCFFI_ERROR_POOL_REENTRY, or MJCFFI_ERROR_BUSY or _REENTRY for a
+   d held), -2 when a SIGINT stopped it. */
 int mjcffi_rollout(mjcffi_rollout_pool* pool,
                    const mjModel* const* m, int nmodel, mjData* const* d,
                    int nbatch, int nstep, int control_spec, int chunk_size,

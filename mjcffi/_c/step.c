@@ -21,7 +21,9 @@ int mjcffi_step_substep(const mjModel* m, mjData* d, int nstep, mjfGeneric fn) {
 // mujoco-py's substep order: the callback runs before each mj_step, so it sees the
 // state the step starts from and what the previous step computed (contacts, sensors).
 // nstep 0 calls fn once and steps nothing (MjSim.substep_callback()).  A SIGINT after
-// `token` stops the loop before the next step (and its callback): the steps done stay.
+// `token` stops the loop before the next step (and its callback): the steps done stay,
+// and MJCFFI_STEP_STOPPED says so, since a Python handler of the user's own that does
+// not raise would otherwise leave the caller unaware that steps are missing.
 int mjcffi_step_loop(const mjModel* m, mjData* d, int nstep, mjfGeneric fn, int token) {
   mjcffi_guard guard;
   if (mjcffi_data_enter(d, 1, "mj_step")) {
@@ -36,7 +38,8 @@ int mjcffi_step_loop(const mjModel* m, mjData* d, int nstep, mjfGeneric fn, int 
   if (nstep == 0 && fn) {
     fn(m, d);
   }
-  for (int i = 0; i < nstep && !mjcffi_interrupted(token); i++) {
+  int i = 0;
+  for (; i < nstep && !mjcffi_interrupted(token); i++) {
     if (fn) {
       fn(m, d);
     }
@@ -44,5 +47,5 @@ int mjcffi_step_loop(const mjModel* m, mjData* d, int nstep, mjfGeneric fn, int 
   }
   mjcffi_guard_leave(&guard, 0);
   mjcffi_data_leave(d);
-  return 0;
+  return i < nstep ? MJCFFI_STEP_STOPPED : 0;
 }

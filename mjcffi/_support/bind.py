@@ -47,6 +47,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from . import marshal as _marshal
+from . import official as _official
 from .errors import with_note
 from .library import ffi, lib
 from .._generated.namedinfo import ALIASES, CATEGORIES
@@ -125,6 +126,8 @@ def _refuse(owner, element):
     try:
         elemtype = element._ptr.element.elemtype
     except Exception:
+        if _official.is_official(element):   # both bindings have an MjsGeom: say which
+            raise _official.not_accepted("the element", "Mjs", element) from None
         raise TypeError(f"bind takes a spec element (MjsGeom, MjsJoint, ...) or a list of "
                         f"them, not {type(element).__name__}") from None
     if elemtype == lib.mjOBJ_FRAME:

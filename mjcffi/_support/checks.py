@@ -2,13 +2,15 @@
 argument declared as a C enum, and a scene against the model it is used with.
 
 Hand-written, beside the generated modules of mjcffi/structs/ (the scene's
-constructor records what it was made for here); imports only the compiled module.
+constructor records what it was made for here); imports only the compiled module and
+official.py.
 """
 
 import operator
 import reprlib
 import weakref
 
+from . import official as _official
 from .library import ffi
 
 NULL = ffi.NULL
@@ -110,6 +112,8 @@ def scene(model, scn, c_scn, name="scn"):
         return                        # nothing of the model's goes into the buffers
     made = getattr(scn, "__dict__", {}).get("_made_for")
     if made is None:
+        if _official.is_official(scn):
+            raise _official.not_accepted(name, "MjvScene", scn)
         given = "a raw mjvScene pointer" if isinstance(scn, ffi.CData) else type(scn).__name__
         raise TypeError(f"{name} must be an MjvScene made by MjvScene(m, maxgeom) or "
                         f"mjv_makeScene, not {given}: for a model with flexes or skins, what "

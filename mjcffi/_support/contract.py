@@ -57,7 +57,11 @@ warnings_as_errors = False    # mjcffi.set_warnings_as_errors(True) is on
 _lock = threading.Lock()
 _errors: dict = {}
 _order = itertools.count()     # which exception came first, when one call finds several
-_scopes: list = []             # [owner thread, set of mjData addresses or None: all]
+# [owner thread, set of mjData addresses or None: all]; changed only by list.append and
+# list.remove, each one step under the GIL, so that a caller's `finally` can release its
+# claim with no bytecode before the call that could raise (a KeyboardInterrupt)
+_scopes: list = []
+scopes = _scopes
 _Foreign = getattr(threading, "_DummyThread", ())    # threads Python did not start
 
 
@@ -193,8 +197,7 @@ def stash(name, error, data):
 def _owner(data):
     """Who an exception raised on a thread Python did not start is for (see _errors)."""
     address = None if data is None else int(ffi.cast("uintptr_t", data))
-    with _lock:
-        scopes = list(_scopes)
+    scopes = list(_scopes)
     for owner, addresses in scopes:
         if addresses is not None and address in addresses:
             return owner
@@ -209,17 +212,29 @@ def _owner(data):
     return int(ffi.cast("uintptr_t", pooled[0])) if len(pooled) == 1 else None
 
 
+def claim(datas=None):
+    """A claim, for the calling thread, of the exceptions of callbacks that run on
+    threads working for it (those of rollout or a Batch): on `datas` (C pointers),
+    or any (None).  Nothing is claimed until it is in `scopes`: the caller appends
+    it inside its `try` and, in the `finally`, removes it if it is there."""
+    return [threading.current_thread(),
+            None if datas is None else {int(ffi.cast("uintptr_t", d)) for d in datas}]
+
+
 def scope(datas=None):
-    """Claim, for the calling thread, the exceptions of callbacks that run on threads
-    working for it (those of rollout or a Batch) until `unscope`: on `datas`
-    (C pointers), or any (None).  Returns the claim, for `unscope`."""
-    claim = [threading.current_thread(),
-             None if datas is None else {int(ffi.cast("uintptr_t", d)) for d in datas}]
-    with _lock:
-        _scopes.append(claim)
-    return claim
+    """Put a new claim (see `claim`) in force until `unscope`; returns it.  A
+    KeyboardInterrupt inside leaves nothing in force."""
+    new = claim(datas)
+    try:
+        _scopes.append(new)
+    except BaseException:
+        if new in _scopes:
+            _scopes.remove(new)
+        raise
+    return new
 
 
 def unscope(claim):
-    with _lock:
+    """End a claim of `scope` (nothing if it is no longer in force)."""
+    if claim in _scopes:
         _scopes.remove(claim)

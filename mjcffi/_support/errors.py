@@ -5,7 +5,8 @@ _guards.c) that catches mju_error on the calling thread instead of letting the
 default handler end the process.  A guard of a void F returns 1 when it caught
 an error (pass that to `check`); a guard of any other F returns a zero value,
 so call `raise_pending` after it.  `lib.mjcffi_step(m, d, nstep)` steps like a
-void guard.  The error and its message belong to the calling thread only.
+void guard, and returns 2 when a SIGINT stopped it early (see marshal.check_steps).
+The error and its message belong to the calling thread only.
 
 A call that writes an mjData holds it while it runs (mjcffi/_c/guard.c): the same
 mjData in a call on another thread is a ValueError, and a callback restarting

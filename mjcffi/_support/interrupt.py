@@ -4,8 +4,10 @@ Python handles SIGINT by setting a flag that its own loop reads, so a C loop run
 with the GIL released never saw it.  mjcffi's C puts a counting handler in front of
 Python's (on the main thread's long calls only), and the loops of mj_step(m, d,
 nstep), rollout and MjSimPool.step stop at the next step boundary when it counts a
-SIGINT; the steps done stay.  Python's own handler then raises KeyboardInterrupt as
-the call returns.
+SIGINT; the steps done stay.  Each says so (mjcffi_step's MJCFFI_STEP_STOPPED, the pools'
+-2), and the call ends in `stopped`: Python's own handler raises KeyboardInterrupt, and
+where a handler of the user's own raises nothing, `stopped` does, as the call did not
+do all it was asked.
 
 Support module: imports only the compiled module.
 """

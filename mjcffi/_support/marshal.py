@@ -24,7 +24,8 @@ a short list of calls into this module, then the guarded C call.  The rules:
   FatalError.
 
 Support module: imports only the compiled module, views, const, stack, errors,
-contract (for the flag of a stashed callback error) and NumPy.
+contract (for the flag of a stashed callback error), interrupt (Ctrl-C in the step
+loops) and NumPy.
 """
 
 import operator
@@ -35,7 +36,9 @@ from typing import NamedTuple
 import numpy as np
 
 from . import errors as _errors
+from . import official as _bindings
 from . import contract as _contract
+from . import interrupt as _interrupt
 from .errors import FatalError  # noqa: F401  (raised by the generated functions)
 from .errors import ArgumentError, IdError, with_note  # noqa: F401  (also for _functions)
 from . import stack  # noqa: F401  (for _functions: the calls that release stack arrays)
@@ -79,6 +82,22 @@ def check(status):
     finally:
         if _contract.pending:
             _contract.raise_stashed()
+
+
+_STOPPED = lib.MJCFFI_STEP_STOPPED
+
+
+def check_steps(status, what):
+    """After an mj_step loop (mjcffi_step, mjcffi_step_substep): as `check`, and
+    KeyboardInterrupt when a SIGINT stopped it before its last step, even when the
+    user's SIGINT handler raised nothing: the caller asked for steps it did not get."""
+    if status != _STOPPED:
+        return check(status)
+    try:
+        if _contract.pending:
+            _contract.raise_stashed()
+    finally:                      # the KeyboardInterrupt wins; a callback's error is its context
+        _interrupt.stopped(what)
 
 
 def check_error():
@@ -170,6 +189,8 @@ def struct(value, cname, name):
         if value == NULL:
             raise ValueError(f"{name} must not be NULL")
         return value
+    if _bindings.is_official(value):       # both bindings have an MjModel: say which
+        raise _bindings.not_accepted(name, _struct_title(cname), value)
     if isinstance(value, type):
         raise TypeError(f"{name} must be {_struct_title(cname)}, not the class "
                         f"{value.__name__} itself")

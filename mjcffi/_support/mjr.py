@@ -40,6 +40,7 @@ import weakref
 import numpy as np
 
 from .._generated.constants import mjMAXLINEPNT, mjMAXOVERLAY
+from . import official as _official
 from .errors import FatalError, with_note
 from .library import ffi, lib
 
@@ -128,6 +129,8 @@ def record_of(con, name="con"):
     """The Record of MjrContext `con`; a raw pointer has none and is refused."""
     record = getattr(con, "__dict__", {}).get("_mjr")
     if record is None:
+        if _official.is_official(con):
+            raise _official.not_accepted(name, "MjrContext", con)
         given = "a raw mjrContext pointer" if isinstance(con, ffi.CData) else \
             type(con).__name__
         raise TypeError(f"{name} must be an MjrContext, not {given}: mjcffi must know the "

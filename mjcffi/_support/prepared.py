@@ -13,21 +13,31 @@ callback's exception is raised, and the mjData is held for the call, all as in
 a plain call, and the outputs are the same bits.
 
 What a prepared call binds, it binds for its life: the model, the data and the
-arrays (kept alive by it, and locked against `resize` by NumPy meanwhile).  So
-an input array must be used as it is, zero-copy: prepare refuses one that the
+arrays, kept alive by it.  It also holds a weak reference to each array (and to
+the arrays its memory comes from), for which NumPy refuses `resize` even with
+`refcheck=False`: the block a prepared call writes into is never freed under it.
+So an input array must be used as it is, zero-copy: prepare refuses one that the
 plain call would have converted (a list, another dtype, a non-contiguous
-array), since the copy would never see later changes.  A function whose checks
+array), since the copy would never see later changes.  It refuses an array on an
+mjData's stack (mj_stackAllocNum, ...) too: MuJoCo releases that memory
+(mj_freeStack, mj_resetData) and hands it to the next allocation.  A function whose checks
 read what can change between calls (an id stored in a struct such as
 mjvPerturb.select, an mjData count such as nefc, an OpenGL context, the index
 values of an input array) is prepared with its checks bound instead: each call
 of it runs the plain function again, checks and all (`Prepared.rechecks`).
 
-Support module: imports only the standard library.
+Support module: imports only the standard library, NumPy, errors.py and stack.py.
 """
 
 import inspect
 import reprlib
+import weakref
 from typing import Any, Callable, Generic, ParamSpec, Protocol, TypeVar
+
+import numpy as np
+
+from . import stack as _stack
+from .errors import ArgumentError, with_note
 
 P = ParamSpec("P")
 R = TypeVar("R")
@@ -93,6 +103,9 @@ class Preparer(Generic[P, R]):
             def call():
                 return function(*args, **kwargs)
         bound.apply_defaults()
+        if _stack.made:
+            _refuse_stack_arrays(function, bound.arguments)
+        call._locks = _locks(bound.arguments)
         call.function = function
         call.arguments = dict(bound.arguments)
         call.rechecks = self._recheck
@@ -111,6 +124,34 @@ class Preparer(Generic[P, R]):
 
     def __repr__(self):
         return f"<prepare of {self.function.__module__}.{self.function.__name__}>"
+
+
+def _locks(arguments):
+    """A weak reference to each array argument and to each array its memory comes
+    from (its `base` chain): NumPy refuses to resize an array that has one, even
+    with refcheck=False, so the memory stays where the C pointers point.  The
+    prepared call keeps them, and the lock ends with it.  No cost per call."""
+    locks = []
+    for value in arguments.values():
+        while isinstance(value, np.ndarray):
+            locks.append(weakref.ref(value))
+            value = value.base
+    return locks
+
+
+def _refuse_stack_arrays(function, arguments):
+    """ArgumentError if an argument is (a view of) an array on an mjData's stack."""
+    for name, value in arguments.items():
+        if isinstance(value, np.ndarray) and _stack.of(value) is not None:
+            raise with_note(
+                ArgumentError(f"{function.__name__}.prepare(): {name} is an array on an "
+                              f"MjData's stack (mj_stackAllocNum, mj_stackAllocInt, "
+                              f"mj_stackAllocByte); a prepared call would go on writing "
+                              f"through its pointer after MuJoCo releases it (mj_freeStack, "
+                              f"mj_resetData, the reset of a bad state) and hands that "
+                              f"memory to the next allocation"),
+                f"pass an array of your own (np.array({name}) copies it), or call "
+                f"{function.__name__} without prepare while the stack frame lives")
 
 
 class Function(Protocol[P, R]):

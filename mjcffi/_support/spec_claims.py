@@ -16,8 +16,6 @@ memory: no call is made, and nothing can refuse them.
 Support module: imports only the compiled module and errors.py.
 """
 
-from contextlib import contextmanager
-
 from .errors import raise_pending
 from .library import ffi, lib
 
@@ -43,13 +41,50 @@ def element_of(struct):
     return element_of(owner) if owner is not None else NULL
 
 
-@contextmanager
-def holding(spec, what):
-    """Hold `spec` (an `mjSpec *`) for the block: RuntimeError if another thread's
-    call holds it."""
-    if lib.mjcffi_spec_enter(spec, what):
-        raise_pending()
-    try:
-        yield
-    finally:
-        lib.mjcffi_spec_leave(spec)
+class holding:
+    """`with holding(spec, what):` holds `spec` (an `mjSpec *`) for the block;
+    RuntimeError if another thread's call holds it.
+
+    A KeyboardInterrupt may come at any bytecode: taking the spec and recording
+    that it was taken are one C-level step (`list.extend` over `map`, no bytecode
+    between), anything after it in __enter__ releases on the way out, and the
+    release forgets the record before the C call with no bytecode that could
+    raise between them.  An __exit__ interrupted before it ran (at its entry)
+    releases when this object is collected."""
+
+    _taken = ()                    # until __init__ has run: nothing to release
+
+    def __init__(self, spec, what):
+        self._spec = spec
+        self._what = what
+        self._taken = []           # [0] while held; [1] refused
+
+    def __enter__(self):
+        taken = self._taken
+        try:
+            taken.extend(map(_enter, (self._spec,), (self._what,)))
+            if taken[0]:
+                raise_pending()    # refused: nothing held
+        except BaseException:
+            if taken == _HELD:
+                del taken[:]
+                _leave(self._spec)
+            raise
+        return self
+
+    def __exit__(self, *exc_info):
+        taken = self._taken
+        if taken == _HELD:
+            del taken[:]           # no bytecode between this and the call can raise
+            _leave(self._spec)
+
+    def __del__(self):             # the fallback: an __exit__ interrupted at its entry
+        taken = self._taken
+        if taken == _HELD:
+            del taken[:]
+            _leave(self._spec)
+
+
+_HELD = [0]
+_enter = lib.mjcffi_spec_enter
+_leave = lib.mjcffi_spec_leave

@@ -125,7 +125,10 @@ class Batch:
     With `persistent=True` the batch keeps one mjData per simulation instead
     of one per thread.  A Batch must not be used from several Python threads
     at once: MuJoCo serializes its calls, but each reports failures through
-    `status` and `error()`, which the next call overwrites.
+    `status` and `error()`, which the next call overwrites.  A Batch with threads
+    (nthread > 1) made before os.fork() cannot step, forward, reset, roll out, jac or
+    ray in the child, where its threads are missing (RuntimeError): make a new Batch
+    there.
     """
 
     def __init__(self, model, nsim, nthread=0, persistent=False):

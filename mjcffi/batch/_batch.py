@@ -16,6 +16,8 @@ which and why.
 """
 
 import operator
+import os
+import weakref
 
 import numpy as np
 
@@ -82,6 +84,8 @@ class Batch:
         self._ptr = _make(model._ptr, nsim, nthread, bool(persistent))
         self.nsim = nsim
         self.nthread = lib.mjb_nthread(self._ptr)
+        if self.nthread > 1:
+            _threaded.add(self)     # a fork leaves its threads behind: see _after_fork
         self.nstate = lib.mjb_nstate(self._ptr)
         self.persistent = bool(lib.mjb_persistent(self._ptr))
         self._template = None       # an MjData of the model: the shapes of its fields
@@ -445,6 +449,50 @@ class Batch:
         if not 0 <= sim < self.nsim:
             raise IndexError(f"sim must be in [0, {self.nsim}), got {sim}")
         return sim
+
+
+# ------------------------------------------------------------ fork
+
+# fork() copies the calling thread alone: in a child, a Batch made before the fork has its
+# simulations but not MuJoCo's threads, which a call would wait for forever (the official
+# Batch hangs there), and which mjb_deleteBatch would wait to join.  Its calls on the
+# threads are refused instead; its storage stays readable.
+_threaded: weakref.WeakSet = weakref.WeakSet()      # every Batch with threads of its own
+
+
+def _refused_after_fork(name):
+    def refuse(self, *args, **kwargs):
+        raise with_note(RuntimeError(f"Batch.{name}: this Batch (nthread={self.nthread}) was "
+                                     "made before os.fork(), and its threads did not follow "
+                                     "into this child process, so the call would wait "
+                                     "forever"),
+                        "make a new Batch in the child (its state, bound arrays and "
+                        "get_data() can still be read here); a Batch with nthread=1 runs "
+                        "on the calling thread and works in a child")
+    refuse.__name__ = name
+    return refuse
+
+
+class _ForkedBatch(Batch):
+    """A Batch with threads, in a child forked after it was made: the calls that run on
+    its threads are refused (see _threaded)."""
+
+    step = _refused_after_fork("step")
+    forward = _refused_after_fork("forward")
+    reset = _refused_after_fork("reset")
+    set_const = _refused_after_fork("set_const")
+    rollout = _refused_after_fork("rollout")
+    _apply = _refused_after_fork("jac/ray")
+
+
+def _after_fork():
+    for b in list(_threaded):
+        ffi.gc(b._ptr, None)         # never join threads that live in the parent
+        b.__class__ = _ForkedBatch
+    _threaded.clear()
+
+
+os.register_at_fork(after_in_child=_after_fork)
 
 
 # ------------------------------------------------------------ mjb_apply tasks

@@ -5,8 +5,9 @@ slider's mjtNum, an edit field's text), and the mjUI keeps that pointer for as
 long as the item exists: MuJoCo reads and writes it at every event and redraw.
 So mjui_add takes `pdata` only as memory that Python owns and can keep alive: a
 writable, C-contiguous NumPy array, a ctypes object that owns its memory, or a
-cffi cdata from ffi.new.  The MjUI wrapper keeps each one (and a cffi buffer
-export of it, so that it cannot be resized) while an item in use points at it.
+cffi cdata from ffi.new.  The MjUI wrapper keeps each one (and, for a NumPy array,
+a weak reference to it and to the arrays its memory comes from, for which NumPy
+refuses `resize` even with refcheck=False) while an item in use points at it.
 
 MuJoCo follows what the mjUI holds without checks, and every field of it can be
 written from Python: item types and counts, the element counts of radio and edit
@@ -28,6 +29,7 @@ import math
 import operator
 import re
 import threading
+import weakref
 from collections.abc import Mapping
 
 import numpy as np
@@ -135,8 +137,16 @@ def _buffer(value, name):
             raise ValueError(f"{name}: the array is read-only; MuJoCo writes the item's value")
         if not value.flags.c_contiguous:
             raise ValueError(f"{name}: the array must be C-contiguous")
-        holder = ffi.from_buffer(value, require_writable=True)  # pins it: no resize
-        return _Buffer((value, holder), int(ffi.cast("uintptr_t", holder)), value.nbytes, fmt)
+        holder = ffi.from_buffer(value, require_writable=True)
+        # NumPy refuses resize, even with refcheck=False, to an array with a weak reference
+        # (a buffer export alone does not stop it)
+        locks = []
+        base = value
+        while isinstance(base, np.ndarray):
+            locks.append(weakref.ref(base))
+            base = base.base
+        return _Buffer((value, holder, locks), int(ffi.cast("uintptr_t", holder)), value.nbytes,
+                       fmt)
     if isinstance(value, (ctypes._SimpleCData, ctypes.Array)):
         # from_address objects own nothing and keep nothing alive
         if not (value._b_needsfree_ or value._b_base_ is not None or value._objects):

@@ -22,7 +22,6 @@ from .._support import loading as _loading
 from .._support import prepared as _p
 from .._support import contract as _contract
 from .._support import stack as _stack
-from .._support import interrupt as _interrupt  # noqa: F401  (Ctrl-C stops nstep loops)
 from .. import warning_errors as _warnings
 from .._generated.enums import mjtObj
 from .._support.errors import ArgumentError, with_note
@@ -113,7 +112,7 @@ def _mj_step(m, d, nstep=1, *, prepare=False):
         if _stack.live:                  # a bad state's reset empties the stack
             _stack.sweep(d)
         if status or _contract.pending:
-            _m.check(status)
+            _m.check_steps(status, "mj_step")
     return call
 
 
@@ -137,8 +136,8 @@ def mj_step(m, d, nstep=1):
         raise _m.scalar_error(exc, "mj_step", {"nstep": ("int", nstep)}) from None
     if _stack.live:                      # a bad state's reset empties the stack
         _stack.sweep(d)
-    if status or _contract.pending:
-        _m.check(status)
+    if status or _contract.pending:      # an error, a callback's error, or Ctrl-C
+        _m.check_steps(status, "mj_step")
 
 
 def _step_checked(m, d, nstep):
@@ -152,7 +151,7 @@ def _step_checked(m, d, nstep):
             raise _m.scalar_error(exc, "mj_step", {"nstep": ("int", nstep)}) from None
         if _stack.live:
             _stack.sweep(d)
-        _m.check(status)
+        _m.check_steps(status, "mj_step")
     except BaseException:
         if before is not None:
             _warnings.restore(d, before)      # keep the counts under the exception

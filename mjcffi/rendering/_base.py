@@ -106,8 +106,8 @@ class GLContextBase:
         if previous is self:
             yield
             return
-        self.make_current()
         try:
+            self.make_current()        # inside the `try`: an interrupt cannot leave it held
             yield
         finally:
             if previous is not None and previous._native is not None:

@@ -23,6 +23,7 @@ import numpy as np
 
 from .._generated.enums import mjtCamera, mjtCatBit, mjtDepthMap, mjtFontScale, mjtFramebuffer, \
     mjtObj, mjtRndFlag
+from .._support import official as _official
 from .._functions import mjr_render, mjr_setBuffer, mjv_defaultFreeCamera, mjv_updateScene
 from ..functions._overrides import mj_name2id
 from ..model import MjModel
@@ -84,6 +85,8 @@ class Renderer:
         self._gl_context = None
         self._mjr_context = None
         if not isinstance(model, MjModel):
+            if _official.is_official(model):     # both bindings have an MjModel: say which
+                raise _official.not_accepted("model", "MjModel", model)
             raise TypeError(f"model must be an mjcffi.MjModel, not {type(model).__name__}")
         height, width = pixels(height, "height"), pixels(width, "width")
         _fits(width, model.vis.global_.offwidth, "width", "offwidth")

@@ -7,7 +7,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from .._support import errors as _errors, marshal as _marshal
-from .._support import contract as _contract, interrupt as _interrupt
+from .._support import contract as _contract, interrupt as _interrupt, stack as _stack
 from .. import warning_errors as _warnings
 from .._support.library import ffi, lib
 from ..functions._overrides import mj_forward, mj_step
@@ -15,6 +15,7 @@ from ..rollout import Rollout
 from ._sim import MjSim, _count
 
 _MESSAGE_SIZE = 2048        # as the C helper's record of a caught error
+_STOPPED = lib.MJCFFI_STEP_STOPPED     # what a step loop that a SIGINT stopped returns
 
 
 class MjSimPool:
@@ -123,8 +124,8 @@ class MjSimPool:
                                f"it, or another thread is using it)"),
                 "a pool waits for the callbacks its threads run, so they may not call it; "
                 "an MjSimPool takes one call at a time")
-        self._running = True
         try:
+            self._running = True     # inside the `try`: an interrupt cannot leave it set
             if _contract.python_callbacks or _contract.warnings_as_errors or \
                     any(s._substep_python is not None for s in sims):
                 self._run_python(job, sims)
@@ -147,6 +148,9 @@ class MjSimPool:
             ffi.new("mjData*[]", [d for _, d in pairs]),
             ffi.new("mjfGeneric[]", substeps) if any(substeps) else ffi.NULL,
             n, self.nsubsteps, forward, status, message, _MESSAGE_SIZE)
+        if _stack.live:                  # a bad state's reset empties the stack
+            for _, d in pairs:
+                _stack.sweep(d)
         if nfailed == -1:                # refused: a callback of this pool's call
             _errors.raise_pending()
         if nfailed == -2:                # a SIGINT stopped the steps (interrupt.py)
@@ -163,25 +167,36 @@ class MjSimPool:
             raise error
 
     def _run_python(self, job, sims):
-        """The sims on Python threads, for the calls that run Python during the steps."""
+        """The sims on Python threads, for the calls that run Python during the steps.
+
+        Ctrl-C: the C step loops of every thread take the calling thread's interrupt
+        token, so a SIGINT stops each at its next step (mjcffi/_c/interrupt.c), and a
+        KeyboardInterrupt the calling thread sees stops the Python loops (`stop`) at
+        theirs; the call waits for the threads to end, then raises it."""
         n = min(self.nthreads, len(sims))
         if n > 1 and self._executor is None:
             self._executor = ThreadPoolExecutor(self.nthreads - 1,
                                                 thread_name_prefix="MjSimPool")
         shares = [sims[i::n] for i in range(n)]
-        futures = [self._executor.submit(_run_share, job, share, self.nsubsteps)
+        token = lib.mjcffi_interrupt_token()   # -1 where a SIGINT stops nothing
+        stop = []                              # non-empty: the caller saw Ctrl-C
+        futures = [self._executor.submit(_run_share, job, share, self.nsubsteps, token, stop)
                    for share in shares[1:]]
         try:
-            errors = [_run_share(job, shares[0], self.nsubsteps)]
-        except KeyboardInterrupt:      # Ctrl-C: the other shares end their sims, then it goes on
-            for future in futures:
-                future.cancel() or future.exception()
+            errors = [_run_share(job, shares[0], self.nsubsteps, token, stop)]
+            for future in futures:     # wait for every share, whatever failed
+                try:
+                    errors.append(future.result())
+                except KeyboardInterrupt:
+                    raise
+                except BaseException as exc:
+                    errors.append([(-1, exc)])
+        except KeyboardInterrupt:
+            stop.append(True)          # the other threads end at their next step
+            _wait(futures)
             raise
-        for future in futures:     # wait for every share, whatever failed
-            try:
-                errors.append(future.result())
-            except BaseException as exc:
-                errors.append([(-1, exc)])
+        if lib.mjcffi_interrupted(token):      # a SIGINT whose handler raised nothing
+            _interrupt.stopped("MjSimPool.step")
         if any(errors):            # the first in the order of `sims`
             raise min(((i * n + k, exc) for k, share_errors in enumerate(errors)
                        for i, exc in share_errors), key=lambda entry: entry[0])[1]
@@ -219,19 +234,65 @@ def _distinct(sims):
                              "MjData of its own, which one thread steps")
 
 
-def _run_share(job, sims, nsubsteps):
-    """Step (or forward) each sim; [(index in `sims`, exception)] for those that raised."""
+def _wait(futures):
+    """Wait for `futures` to end; a second Ctrl-C meanwhile is the caller's too."""
+    for future in futures:
+        while True:
+            try:
+                future.exception()
+                break
+            except KeyboardInterrupt:
+                continue          # the threads are stopping already: keep waiting
+            except BaseException:
+                break             # cancelled
+
+
+def _run_share(job, sims, nsubsteps, token=-1, stop=()):
+    """Step (or forward) each sim; [(index in `sims`, exception)] for those that raised.
+    A SIGINT after `token`, or a non-empty `stop`, ends the share at the next step."""
     errors = []
     for i, sim in enumerate(sims):
+        if stop or lib.mjcffi_interrupted(token):
+            break
         try:
             if job is not mj_step:
                 job(sim.model, sim.data)
             elif sim._substep_python is not None:
-                sim._python_substeps(sim.model, sim.data, nsubsteps)
+                fn = sim._substep_python
+                for _ in range(nsubsteps):
+                    if stop or lib.mjcffi_interrupted(token):
+                        break
+                    fn(sim.model, sim.data)
+                    mj_step(sim.model, sim.data)
             elif sim.substep_callback_ptr:
-                sim._c_substeps(sim.model, sim.data, nsubsteps)
+                _steps(sim, nsubsteps, sim._substep_fn, token, warned=False)
             else:
-                mj_step(sim.model, sim.data, nsubsteps)
+                _steps(sim, nsubsteps, ffi.NULL, token, warned=True)
         except Exception as exc:
             errors.append((i, exc))
+        if _stack.live:              # as mj_step does
+            _stack.sweep(sim.data)
     return errors
+
+
+def _steps(sim, nsubsteps, fn, token, warned):
+    """`nsubsteps` steps of `sim`, each after C function `fn` (or NULL), in one C loop
+    that a SIGINT after `token` stops at a step boundary: mj_step(m, d, nsubsteps) and
+    MjSim's C substep loop, with the calling thread's token on any thread.  `warned`:
+    with mjcffi.set_warnings_as_errors(True), check the counts over the loop, as
+    mj_step does."""
+    m, d = sim._pointers
+    before = _warnings.before_call(sim.data) if warned and _contract.warnings_as_errors \
+        else None
+    try:
+        status = lib.mjcffi_step_loop(m, d, nsubsteps, fn, token)
+        if status == _STOPPED:       # a SIGINT: _run_python raises once every thread stopped
+            status = 0
+        if status or _contract.pending:
+            _marshal.check(status)
+    except BaseException:
+        if before is not None:
+            _warnings.restore(sim.data, before)     # keep the counts under the exception
+        raise
+    if before is not None:
+        _warnings.after_call(sim.data, before)

@@ -167,7 +167,7 @@ class MjSim(SimBase):
         m, d = self._pointers
         status = _step_substep(m, d, nstep, self._substep_fn)
         if status or _contract.pending:
-            _marshal.check(status)
+            _marshal.check_steps(status, "MjSim.step")
 
     def forward(self):
         """mj_forward: compute the derived quantities of the current state."""

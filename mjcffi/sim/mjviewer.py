@@ -87,8 +87,8 @@ class _WindowContext:
         if _address(previous) == _address(handle):
             yield
             return
-        glfw.make_context_current(handle)
         try:
+            glfw.make_context_current(handle)     # inside the `try`: see rendering/_base.py
             yield
         finally:
             glfw.make_context_current(previous if previous else None)

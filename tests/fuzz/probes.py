@@ -693,6 +693,167 @@ def pool_reentered_from_callback():
         mjcffi.set_mju_user_warning(None)
     if not outcomes or set(outcomes) != {"refused"}:
         raise ProbeFailure(f"re-entries gave {sorted(set(outcomes))}, not only RecursionError")
+
+
+def _interrupt_points(code, k):
+    """A trace function raising KeyboardInterrupt at the k-th point of `code` where
+    CPython checks for signals (its entry, after a call returns, a backward jump), and
+    a list that counts the points seen."""
+    import dis
+    calls = {dis.opmap[n] for n in ("CALL", "CALL_FUNCTION_EX") if n in dis.opmap}
+    seen, last = [0], {}
+
+    def point():
+        seen[0] += 1
+        if seen[0] == k:
+            raise KeyboardInterrupt("injected")
+
+    def local(frame, event, arg):
+        if event == "opcode":
+            before = last.get(id(frame))
+            last[id(frame)] = frame.f_lasti
+            if before is not None and (frame.f_code.co_code[before] in calls
+                                       or frame.f_lasti < before):
+                point()
+        elif event == "return":
+            last.pop(id(frame), None)
+        return local
+
+    def tracer(frame, event, arg):
+        if frame.f_code is not code:
+            return None
+        frame.f_trace_opcodes, frame.f_trace_lines = True, False
+        point()
+        return local
+    return tracer, seen
+
+
+@probe("claims", expect="clean")
+def claim_interrupted_after_taken():
+    """a KeyboardInterrupt at each point where CPython raises one in Rollout._call and
+    in the spec claim (holding.__enter__): afterwards the pool rolls out and another
+    thread compiles the spec"""
+    import inspect
+    import sys
+    import numpy as np
+    import mjcffi
+    from mjcffi import rollout
+    from mjcffi._support import spec_claims
+    from .env import XML
+    m, _ = _model()
+    n = mjcffi.mj_stateSize(m, mjcffi.mjtState.mjSTATE_FULLPHYSICS)
+    pool = rollout.Rollout(nthread=2)
+    datas = [mjcffi.MjData(m) for _ in range(2)]
+    spec = mjcffi.MjSpec.from_string(XML)
+    holding = spec_claims.holding     # a class; a generator function before the fix
+    enter = holding.__enter__ if isinstance(holding, type) else inspect.unwrap(holding)
+    cases = ((rollout.Rollout._call, lambda: pool.rollout(m, datas, np.zeros((2, n)), nstep=1)),
+             (enter, spec.compile))
+    for function, call in cases:
+        for k in range(1, 40):
+            tracer, seen = _interrupt_points(function.__code__, k)
+            sys.settrace(tracer)
+            try:
+                call()
+            except KeyboardInterrupt:
+                pass
+            finally:
+                sys.settrace(None)
+            errors = []
+            thread = threading.Thread(target=lambda: _attempt_into(errors, spec.compile))
+            thread.start()
+            thread.join(60)
+            if errors:
+                raise ProbeFailure(f"after an interrupt at point {k} of "
+                                   f"{function.__qualname__}: {errors[0]}")
+            if pool._callers:
+                raise ProbeFailure(f"point {k} of {function.__qualname__} left the caller "
+                                   f"registered: {pool._callers}")
+            pool.rollout(m, datas, np.zeros((2, n)), nstep=1)
+            if seen[0] < k:
+                break
+    pool.close()
+
+
+def _attempt_into(errors, call):
+    try:
+        call()
+    except Exception as exc:        # noqa: BLE001 (the probe reports it)
+        errors.append(exc)
+
+
+@probe("prepared", expect="clean")
+def prepared_after_stack_release():
+    """mju_fill.prepare(a stack array, 7), then mj_freeStack and a new stack array: prepare
+    refuses the stack array, or the call leaves the new array alone"""
+    import mjcffi
+    m, d = _model()
+    mjcffi.mj_markStack(d)
+    a = mjcffi.mj_stackAllocNum(d, 3)
+    try:
+        fill = mjcffi.mju_fill.prepare(a, 7.0)
+    except _documented():
+        fill = None
+    mjcffi.mj_freeStack(d)
+    mjcffi.mj_markStack(d)
+    b = mjcffi.mj_stackAllocNum(d, 3)
+    b[:] = 1.0
+    if fill is not None:
+        fill()
+    if b.tolist() != [1.0] * 3:
+        raise ProbeFailure(f"a prepared call wrote into a newer stack array: {b.tolist()}")
+    mjcffi.mj_freeStack(d)
+
+
+@probe("prepared", expect="clean")
+def prepared_after_resize_without_refcheck():
+    """mju_fill.prepare(out, 5), out.resize(10**5, refcheck=False), then the call: NumPy
+    refuses the resize while the prepared call binds the array"""
+    import numpy as np
+    import mjcffi
+    out = np.zeros(3)
+    fill = mjcffi.mju_fill.prepare(out, 5.0)
+    try:
+        out.resize(10**5, refcheck=False)
+    except ValueError:
+        fill()
+        if out.tolist() != [5.0] * 3:
+            raise ProbeFailure(f"the prepared call wrote {out.tolist()}")
+        return
+    raise ProbeFailure("the bound array was resized: the prepared call's pointer is freed")
+
+
+@probe("official objects", expect="clean")
+def official_objects_passed():
+    """an official MjModel, MjData, MjvOption and MjvScene passed to mj_step, mj_forward,
+    MjData, mj_jac.prepare, rollout and mjv_updateScene: a TypeError naming the official
+    class with its module"""
+    import numpy as np
+    import mujoco
+    import mjcffi
+    from .env import XML
+    m = mujoco.MjModel.from_xml_string(XML)
+    d = mujoco.MjData(m)
+    mm, md = _model()
+    calls = {
+        "mj_step": lambda: mjcffi.mj_step(m, d),
+        "mj_forward": lambda: mjcffi.mj_forward(mm, d),
+        "MjData": lambda: mjcffi.MjData(m),
+        "mj_jac.prepare": lambda: mjcffi.mj_jac.prepare(m, md, None, None, np.zeros(3), 0),
+        "rollout": lambda: mjcffi.rollout.rollout(m, md, np.zeros((1, 3))),
+        "mjv_updateScene": lambda: mjcffi.mjv_updateScene(
+            mm, md, mujoco.MjvOption(), None, mjcffi.MjvCamera(), 0, mjcffi.MjvScene(mm, 10)),
+    }
+    for name, call in calls.items():
+        try:
+            call()
+        except TypeError as exc:
+            if "mujoco._structs." not in str(exc) or "official bindings" not in str(exc):
+                raise ProbeFailure(f"{name}: the message does not name the official class: "
+                                   f"{exc}")
+        else:
+            raise ProbeFailure(f"{name} took an official object")
+
 @dataclass
 class ProbeResult:
     name: str
