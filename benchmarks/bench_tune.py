@@ -1,32 +1,56 @@
-"""mjcffi.tune on gymnasium's MuJoCo models: the speed-up it finds at equal or better held-out
-local error (budget='original'), and what a looser budget buys, with the tuning's wall time.
+"""mjcffi.tune against a brute-force grid on gymnasium's MuJoCo models.
 
-    python -m benchmarks.bench_tune            # prints the table
+For each model and error budget, tune's choice is compared with the fastest setting of
+a grid (timestep × 1, 1.5, 2, 3, 4; Euler, implicitfast, implicit, RK4; iteration cap the
+model's own, 10, 3, 1) that meets the budget.  Both are judged on the same fresh states,
+drawn with a seed tune never used, by the error measure tune uses, and both are timed the
+same way: CPU time of one thread, interleaved with the model's own settings.
 
-Each model is tuned with random controls (uniform in ctrlrange) held for its env's control
-period: frame_skip × timestep, frame_skip read from the v5 env's constructor default.
+    python -m benchmarks.bench_tune            # 10 models, budgets 1e-3 and 1e-2
+    python -m benchmarks.bench_tune --quick    # inverted_pendulum, reacher, hopper; 1e-2
+    python -m benchmarks.bench_tune --write    # also replace the section in RESULTS.md
 """
 
-import importlib
-import inspect
+import argparse
+import dataclasses
+import math
 import os
+import pathlib
+import sys
+import time
 
-from mjcffi import MjModel, tune
-from mjcffi.evaluation.measures import JOINT_KINDS
+import numpy as np
 
-# model file -> (env module, env class) of gymnasium's v5 envs
-ENVS = {"hopper": ("hopper_v5", "HopperEnv"), "walker2d": ("walker2d_v5", "Walker2dEnv"),
-        "half_cheetah": ("half_cheetah_v5", "HalfCheetahEnv"), "ant": ("ant_v5", "AntEnv"),
-        "humanoid": ("humanoid_v5", "HumanoidEnv")}
-BUDGETS = ("original", 1e-2)
-TARGET_SPEEDUP = 1.3       # on at least 3 of the 5 models, budget='original'
-TARGET_WALL = 120.0        # seconds of tuning per model
+import mjcffi
+from mjcffi import MjModel
+from mjcffi.evaluation.periods import end_states, new_pool, period_estimates, qpos_of, \
+    setting_model
+from mjcffi.evaluation.reference import REF_FACTOR, reference_setting
+from mjcffi.evaluation.settings import Setting
+from mjcffi.evaluation.states import initial_states, random_controls, sample
+from mjcffi.evaluation.timing import PeriodTimer, speed
+from mjcffi.tune._stages import unneeded_stages
+from mjcffi.warning_errors import ignore_warnings
 
+NAMES = ("ant", "half_cheetah", "hopper", "humanoid", "inverted_double_pendulum",
+         "inverted_pendulum", "pusher", "reacher", "swimmer", "walker2d")
+QUICK_NAMES = ("inverted_pendulum", "reacher", "hopper")
+BUDGETS = (1e-3, 1e-2)
+QUICK_BUDGETS = (1e-2,)
+HEADING = "## `mjcffi.tune` against a brute-force grid"
+OLD_HEADING = "## `mjcffi.tune` on gymnasium's models"
+RESULTS = pathlib.Path(__file__).resolve().parent / "RESULTS.md"
 
-def frame_skip(name):
-    module, cls = ENVS[name]
-    env = getattr(importlib.import_module(f"gymnasium.envs.mujoco.{module}"), cls)
-    return inspect.signature(env.__init__).parameters["frame_skip"].default
+NSTEP0 = 12                       # the control period in the model's own timesteps
+MULTIPLIERS = (1, 1.5, 2, 3, 4)   # 12 / multiplier is a whole number of steps per period
+INTEGRATORS = (mjcffi.mjtIntegrator.mjINT_EULER, mjcffi.mjtIntegrator.mjINT_IMPLICITFAST,
+               mjcffi.mjtIntegrator.mjINT_IMPLICIT, mjcffi.mjtIntegrator.mjINT_RK4)
+ITERATIONS = (10, 3, 1)           # beside the model's own
+FRESH_SEED = 1000                 # tune draws its states from seed 0
+NTRAJ, NSAMPLE = 32, 400     # as tune draws its own sets
+PAIRS = 9
+NTHREAD = 2
+WITHIN = 0.9                      # tune's speed at least this share of the grid's best
 
 
 def model_path(name):
@@ -35,76 +59,273 @@ def model_path(name):
                         f"{name}.xml")
 
 
-def _row(name, budget):
+@dataclasses.dataclass
+class Judged:
+    """A setting judged on the fresh states: its steps per period, per-kind estimates and,
+    once timed, its Speed against the model's own settings."""
+    setting: Setting
+    nstep: int
+    estimates: dict
+    speed: object = None
+
+    def worst(self):
+        """(largest 90 % quantile over the kinds, that kind)."""
+        kind = max(self.estimates, key=lambda k: self.estimates[k].value)
+        return self.estimates[kind].value, kind
+
+    def meets(self, budget):
+        # the budget is a bound on the 90 % quantile: judged by the quantile on the fresh
+        # states (tune holds its own, smaller draws to the quantile's 95 % bound instead)
+        return all(e.value <= budget for e in self.estimates.values())
+
+
+class Fresh:
+    """One model's fresh states, their reference and the timer of the model's own settings:
+    every setting, grid or tune's, is judged and timed against these."""
+
+    def __init__(self, m, pool):
+        self.m = m
+        self.pool = pool
+        self.original = Setting.of(m)
+        self.period = NSTEP0 * m.opt.timestep
+        self.base_disable = int(m.opt.disableflags)
+        for s in unneeded_stages(m):       # tune switches these off; no trajectory changes
+            self.base_disable |= s.flag
+        rng = np.random.default_rng(FRESH_SEED)
+        init = initial_states(m, NTRAJ, rng)
+        nperiod = max(20, round(1.0 / self.period))
+        u = random_controls(m, rng, (NTRAJ, nperiod))
+        self.samples, self.diverged = sample(m, init, u, NSTEP0, NSAMPLE)
+        self.ref_ok = None
+        if self.diverged:
+            return
+        tight = not self.base_disable & mjcffi.mjtDisableBit.mjDSBL_CONSTRAINT
+        ref = setting_model(m, reference_setting(m, tight), self.base_disable)
+        end, ok = end_states(pool, ref, self.samples, NSTEP0 * REF_FACTOR, NTHREAD)
+        self.ref_ok = ok
+        self.ref_qpos = qpos_of(m, end)
+        self.base = PeriodTimer(setting_model(m, self.original, self.base_disable),
+                                self.samples, NSTEP0)
+
+    def usable(self):
+        return not self.diverged and self.ref_ok.all()
+
+    def judge(self, s):
+        nstep = round(self.period / s.timestep)
+        estimates, _ = period_estimates(self.pool, self.m, s, self.base_disable, self.samples,
+                                        self.ref_qpos, nstep, NTHREAD)
+        return Judged(s, nstep, estimates)
+
+    def time(self, j):
+        cand = PeriodTimer(setting_model(self.m, j.setting, self.base_disable), self.samples,
+                           j.nstep)
+        j.speed = speed(self.base, cand, pairs=PAIRS)
+        return j
+
+
+def grid(m, base_disable):
+    """The grid's settings: timestep multiplier × integrator × iteration cap."""
+    original = Setting.of(m)
+    caps = [int(m.opt.iterations)] + [i for i in ITERATIONS if i != int(m.opt.iterations)]
+    if base_disable & mjcffi.mjtDisableBit.mjDSBL_CONSTRAINT:
+        caps = caps[:1]                    # no constraint, no solver: the cap changes nothing
+    period = NSTEP0 * m.opt.timestep
+    return [original.replace(integrator=int(i), timestep=period / (NSTEP0 / k), iterations=c)
+            for k in MULTIPLIERS for i in INTEGRATORS for c in caps]
+
+
+def _model_rows(name, budgets):
+    """The table rows of one model (one per budget) and its counts: (lines, verdicts)."""
+    started = time.perf_counter()
     m = MjModel.from_xml_path(model_path(name))
-    skip = frame_skip(name)
-    try:
-        r = tune(m, budget, control_period=skip * m.opt.timestep, progress=False)
-    except tune.BudgetError as error:
-        return f"| {name}.xml | {budget} | {skip} × {m.opt.timestep:g} s | none met the budget: " \
-               f"{error} | | | | |", None, None
-    changes = ", ".join(f"{c.name} {_show(c)}" for c in r.settings.values()
-                        if c.before not in ("on", "off")) or "none"
-    stages = ", ".join(c.name for c in r.settings.values() if c.before == "on") or "none"
-    kinds = [k for k in JOINT_KINDS if k in r.error.local]
-    errors = "; ".join(f"{k} {r.error.original_local[k]:.1e} → {r.error.local[k]:.1e}"
-                       for k in kinds)
-    line = (f"| {name}.xml | {budget} | {skip} × {m.opt.timestep:g} s | {changes} (stages off: "
-            f"{stages}) | **{r.speedup:.2f}×** | {errors} | {_nearest_miss(r)} | "
-            f"{r.wall_time:.0f} s |")
-    return line, r.speedup, r.wall_time
+    original = Setting.of(m)
+    period = NSTEP0 * m.opt.timestep
+    head = f"| {name} | {{budget:g}} |"
+    with ignore_warnings(), new_pool(NTHREAD) as pool:
+        fresh = Fresh(m, pool)
+        if fresh.diverged:
+            why = (f"the model's own settings diverge on the fresh states ({len(fresh.diverged)} "
+                   f"of {NTRAJ} trajectories): no comparison")
+            return [head.format(budget=b) + f" {why} |" + " |" * 8 for b in budgets], \
+                [None] * len(budgets), time.perf_counter() - started
+        if not fresh.ref_ok.all():
+            why = (f"the reference diverges from {int((~fresh.ref_ok).sum())} fresh states: "
+                   "no comparison")
+            return [head.format(budget=b) + f" {why} |" + " |" * 8 for b in budgets], \
+                [None] * len(budgets), time.perf_counter() - started
+        settings = grid(m, fresh.base_disable)
+        judged = [fresh.judge(s) for s in settings]
+        # only a setting that meets some budget can be the grid's best: time only those
+        loosest = max(budgets)
+        for j in judged:
+            if j.meets(loosest):
+                fresh.time(j)
+        ntimed = sum(j.speed is not None for j in judged)
+
+        lines, verdicts, tunes = [], [], []
+        for budget in budgets:
+            meeting = [j for j in judged if j.speed is not None and j.meets(budget)]
+            best = max(meeting, key=lambda j: j.speed.value) if meeting else None
+            called = time.perf_counter()
+            try:
+                r = mjcffi.tune(m, budget, control_period=period, progress=False, seed=0)
+            except mjcffi.tune.BudgetError as error:
+                r, failure = None, _none_met(error, original)
+            except ValueError as error:     # tune refuses the model (it diverges)
+                r, failure = None, f"refused: {error}"
+            if r is None:
+                # no result to read tune's own wall time from: the call's
+                mine, spent = None, time.perf_counter() - called
+                tune_cells = [failure, "–", "–", f"{spent:.0f} s"]
+                tunes.append(spent)
+            else:
+                mine = fresh.time(fresh.judge(r.setting))
+                label = r.setting.label(original)
+                if r.outcome == "original":
+                    label += " (original)"
+                tune_cells = [f"`{label}`", _speed(mine.speed), _error(mine, budget),
+                              f"{r.wall_time:.0f} s"]
+                tunes.append(r.wall_time)
+            if best is None:
+                grid_cells = ["no grid setting meets it", "–", "–"]
+            else:
+                grid_cells = [f"`{best.setting.label(original)}`", _speed(best.speed),
+                              _error(best, budget)]
+            ratio, verdict = _verdict(mine, best, budget)
+            verdicts.append(verdict)
+            lines.append(head.format(budget=budget) + " "
+                         + " | ".join(tune_cells + grid_cells + [ratio, _say(verdict)]) + " |")
+    wall = time.perf_counter() - started
+    print(f"bench_tune: {name}: {len(settings)} grid settings, {ntimed} timed; tune "
+          f"{', '.join(f'{t:.0f} s' for t in tunes) or '–'}; {wall:.0f} s in all",
+          file=sys.stderr, flush=True)
+    return lines, verdicts, wall
 
 
-def _nearest_miss(r):
-    """The candidate at least TARGET_SPEEDUP× faster (estimated or measured) whose search-set
-    error comes closest to the original's: what the target would have cost in error."""
-    own = next(c for c in r.candidates if c.setting == r.original_setting)
-    fast = [c for c in r.candidates if c.speedup >= TARGET_SPEEDUP and c is not own]
-    if not fast:
-        return "–"
-
-    def ratio(c):
-        return max(c.error[k] / own.error[k] for k in own.error if own.error[k] > 0)
-    best = min(fast, key=ratio)
-    return (f"{best.label(r.original_setting)}: ~{best.speedup:.2f}× at "
-            f"{ratio(best):.2f}× the original's error")
+def _verdict(mine, best, budget):
+    """(tune / grid cell, verdict): True (within 10 % or cheaper), False, or 'none' when no
+    grid setting meets the budget and tune found none either."""
+    if mine is None:
+        return "–", ("none" if best is None else False)
+    if not mine.meets(budget):
+        return ("–" if best is None else f"{mine.speed.value / best.speed.value:.2f}"), False
+    if best is None:
+        return "grid has none", True
+    ratio = mine.speed.value / best.speed.value
+    return f"{ratio:.2f}", ratio >= WITHIN
 
 
-def _show(change):
-    from mjcffi.evaluation.settings import value_name
-    return f"{value_name(change.name, change.before)} → {value_name(change.name, change.after)}"
+def _say(verdict):
+    if verdict == "none":
+        return "– (neither meets it)"
+    return "yes" if verdict else "**no**"
 
 
-def run(budgets=BUDGETS, names=tuple(ENVS)):
-    lines = ["## `mjcffi.tune` on gymnasium's models", "",
-             "`tune(model, budget, control_period=frame_skip × timestep)` with random controls; "
-             "speed-up is × real time against the model's own settings, measured interleaved "
-             "on held-out states (median of 9 pairs); errors are held-out local errors over one "
-             "control period (root mean square over 256 states of each joint kind's largest "
-             "error; rad or m), original → tuned. `budget='original'` asks for equal (within 1 %) "
-             "or better error on every joint kind. The nearest candidate column shows the "
-             "search-set error, relative to the original's worst joint kind, of the candidate at "
-             f"least {TARGET_SPEEDUP}× as fast that came closest.", "",
-             "| model | budget | control period | changed | speed-up | held-out error "
-             f"(original → tuned) | nearest ≥ {TARGET_SPEEDUP}× candidate | tuning time |",
-             "|---|---|---|---|---:|---|---|---:|"]
-    speedups, walls = [], []
-    for budget in budgets:
-        for name in names:
-            line, speedup, wall = _row(name, budget)
-            lines.append(line)
-            if budget == "original" and speedup is not None:
-                speedups.append(speedup)
-            if wall is not None:
-                walls.append(wall)
-    met = sum(s >= TARGET_SPEEDUP for s in speedups)
-    lines += ["", f"Targets: speed-up ≥ {TARGET_SPEEDUP}× with budget='original' on at least 3 "
-              f"of 5 models: **{'met' if met >= 3 else 'not met'}** ({met} of {len(speedups)}); "
-              f"tuning under {TARGET_WALL:.0f} s per model: "
-              f"**{'met' if walls and max(walls) < TARGET_WALL else 'not met'}** "
-              f"(longest {max(walls, default=float('nan')):.0f} s)."]
+def _speed(s):
+    return f"{s.value:.2f}× ({s.low:.2f}–{s.high:.2f})"
+
+
+def _error(j, budget):
+    upper, kind = j.worst()
+    bound = j.estimates[kind].upper
+    if math.isinf(upper):
+        return "diverged"
+    miss = "" if upper <= budget else " **over**"
+    return f"{upper:.2e} [{bound:.2e}] {kind}{miss}"
+
+
+def _none_met(error, original):
+    """A BudgetError in a cell: tune's closest setting and its bound on tune's own states."""
+    best = error.best
+    where = "held-out" if best.held_out is not None else "search"
+    estimates = best.held_out if best.held_out is not None else best.estimates
+    kind = max(estimates, key=lambda k: estimates[k].upper)
+    return (f"none met (closest: `{best.label(original)}`, {estimates[kind].upper:.2e} {kind} "
+            f"on tune's {where} states: {best.status})")
+
+
+def run(names=NAMES, budgets=BUDGETS):
+    """The benchmark's markdown section, as a list of lines."""
+    started = time.perf_counter()
+    lines = [HEADING, "",
+             f"For each of gymnasium's models, control period = {NSTEP0} of the model's "
+             "timesteps, `tune(model, budget, control_period=period, seed=0)` against a "
+             "brute-force grid of the model's own settings with timestep × "
+             f"{{{', '.join(f'{k:g}' for k in MULTIPLIERS)}}} (whole steps per period), "
+             "integrator {Euler, implicitfast, implicit, RK4} and the solver's iteration cap "
+             f"{{the model's own, {', '.join(map(str, ITERATIONS))}}}. Both are judged on the "
+             f"same fresh states, which tune never saw: {NTRAJ} trajectories under the model's "
+             f"own settings with random controls held for a period, {NSAMPLE} states sampled "
+             f"along them, seed {FRESH_SEED}. Error is tune's own measure: one control period "
+             "from each state against the fine reference (RK4 at timestep / "
+             f"{REF_FACTOR}, tight solver), the 90 % quantile over states of each joint kind's "
+             "largest error, with its 95 % upper bound in brackets (a bootstrap over whole "
+             "trajectories); the budget bounds that quantile, so a setting meets it on the "
+             "fresh states when every kind's quantile is within it (tune itself holds the "
+             "bound, on its own draws, to the budget), and the error columns show the worst "
+             "kind (rad or m). "
+             "Speed is × the model's own settings (with the stages tune switches off also off "
+             "on both sides), CPU time of one thread running a control period from 64 of the "
+             f"states, interleaved with the original, median of {PAIRS} pairs with its 95 % "
+             "interval; only grid settings that meet a budget are timed. The grid holds no "
+             "timestep finer than the model's own, so where the model's own settings miss a "
+             "budget no grid setting meets it. The grid's best is "
+             "its fastest setting meeting the budget; tune is *within 10 %* when its choice "
+             f"meets the budget on the fresh states and runs at ≥ {WITHIN:g}× the grid's best "
+             "speed. Tuning time is tune's wall time with 2 threads (where it raises, the "
+             "call's).", "",
+             "| model | budget | tune's choice | tune × speed | tune's fresh error | "
+             "tuning time | grid's best | grid × speed | grid's fresh error | tune / grid | "
+             "within 10 %? |",
+             "|---|---:|---|---:|---|---:|---|---:|---|---:|---|"]
+    verdicts = []
+    for name in names:
+        rows, v, _ = _model_rows(name, budgets)
+        lines += rows
+        verdicts += v
+    wall = time.perf_counter() - started
+    good = sum(v is True for v in verdicts)
+    neither = sum(v == "none" for v in verdicts)
+    failed = sum(v is None for v in verdicts)
+    extra = (f"; {neither} where neither the grid nor tune meets the budget" if neither else "") \
+        + (f"; {failed} not compared (see the rows)" if failed else "")
+    lines += ["", f"Within 10 % of the grid's best or cheaper: **{good} of {len(verdicts)}** "
+              f"(model, budget) rows{extra}. Total wall time {wall / 60:.1f} min."]
     return lines
 
 
+def write_section(lines, path=RESULTS):
+    """Replace this benchmark's section of `path` (or the old tune section) with `lines`,
+    keeping the rest byte for byte; append it when there is none."""
+    text = path.read_text()
+    section = "\n".join(lines) + "\n"
+    keep = text.splitlines(keepends=True)
+    start = next((i for i, line in enumerate(keep)
+                  if line.rstrip("\n") in (HEADING, OLD_HEADING)), None)
+    if start is None:
+        path.write_text(text + ("" if text.endswith("\n") else "\n") + "\n" + section)
+        return
+    end = next((i for i in range(start + 1, len(keep)) if keep[i].startswith("## ")),
+               len(keep))
+    tail = "".join(keep[end:])
+    path.write_text("".join(keep[:start]) + section + ("\n" + tail if tail else ""))
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog="python -m benchmarks.bench_tune",
+                                     description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true",
+                        help=f"{', '.join(QUICK_NAMES)}, budget {QUICK_BUDGETS[0]:g} only")
+    parser.add_argument("--write", action="store_true", help=f"write the section into "
+                        f"{RESULTS.name}")
+    args = parser.parse_args(argv)
+    lines = run(QUICK_NAMES, QUICK_BUDGETS) if args.quick else run()
+    print("\n".join(lines))
+    if args.write:
+        write_section(lines)
+        print(f"wrote the section into {RESULTS}", file=sys.stderr)
+    return 0
+
+
 if __name__ == "__main__":
-    print("\n".join(run()))
+    sys.exit(main())

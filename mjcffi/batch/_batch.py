@@ -24,6 +24,7 @@ import numpy as np
 from .._support import modelcheck as _modelcheck
 from .._support import callbacks as _callbacks
 from .._support import contract as _contract
+from .._support import official as _official
 from .._generated.constants import mjNGROUP
 from .._generated.enums import mjtEq, mjtState, mjtWarning
 from .._support.errors import check, raise_pending, taken_error, with_note
@@ -70,6 +71,8 @@ class Batch:
 
     def __init__(self, model, nsim, nthread=0, persistent=False):
         if not isinstance(model, MjModel):
+            if _official.is_official(model):
+                raise _official.not_accepted("model", "MjModel", model)
             raise TypeError(f"model must be an MjModel, not {type(model).__name__}")
         nsim = integer(nsim, "nsim")
         nthread = integer(nthread, "nthread")
@@ -378,6 +381,8 @@ class Batch:
         """mjb_getModel: simulation `sim`'s model into the MjModel `model`."""
         sim = self._sim(sim)
         if not isinstance(model, MjModel):
+            if _official.is_official(model):
+                raise _official.not_accepted("model", "MjModel", model)
             raise TypeError(f"model must be an MjModel, not {type(model).__name__}")
         self.check_expanded()
         check(lib.mjcffi_guard_mjb_getModel(self._ptr, sim, model._ptr))
@@ -405,6 +410,8 @@ class Batch:
                                 "per simulation")
             for k, m in enumerate(each):
                 if not isinstance(m, MjModel):
+                    if _official.is_official(m):
+                        raise _official.not_accepted(f"models[{k}]", "MjModel", m)
                     raise TypeError(f"models[{k}] must be an MjModel, not {type(m).__name__}")
             array = ffi.new("mjModel *[]", [m._ptr for m in each])
         check(lib.mjcffi_guard_mjb_setModels(self._ptr, array))

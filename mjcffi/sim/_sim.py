@@ -10,6 +10,8 @@ import numpy as np
 
 from .._support import marshal as _marshal
 from .._support import contract as _contract
+from .._support import official as _official
+from .._support import stack as _stack
 from .. import warning_errors as _warnings
 from .._support.errors import FatalError
 from .._functions import (mj_getState, mj_resetData, mj_setConst, mj_setState,
@@ -74,6 +76,8 @@ class MjSim(SimBase):
     def __init__(self, model, data=None, nsubsteps=1, udd_callback=None, substep_callback=None,
                  userdata_names=None, render_callback=None):
         if not isinstance(model, MjModel):
+            if _official.is_official(model):
+                raise _official.not_accepted("model", "MjModel", model)
             raise TypeError(f"model must be an MjModel, not {type(model).__name__}")
         if data is None:
             data = SimData(model)
@@ -166,6 +170,8 @@ class MjSim(SimBase):
     def _c_substeps(self, model, data, nstep):
         m, d = self._pointers
         status = _step_substep(m, d, nstep, self._substep_fn)
+        if _stack.live:                  # a bad state's reset empties the stack
+            _stack.sweep(data)
         if status or _contract.pending:
             _marshal.check_steps(status, "MjSim.step")
 
