@@ -245,6 +245,14 @@ MUTANTS = [
         ("mjcffi/_c/rollout.c", "    mjcffi_data_adopt(d);", "    (void)d;"),
         ["tests/test_rollout_claims.py"]),
     _mutant(
+        "claim_outside_try", "Rollout._call registers its caller before the try that "
+        "releases it",
+        ("mjcffi/rollout.py", "        try:\n            if claim is not None:\n"
+         "                scopes.append(claim)\n            self._callers.add(me)\n",
+         "        self._callers.add(me)\n        try:\n            if claim is not None:\n"
+         "                scopes.append(claim)\n"),
+        ["tests/test_claims_interrupt_safe.py"]),
+    _mutant(
         "fork_handler_off", "the claim table has no fork handler",
         ("mjcffi/_c/claims.c", "  pthread_atfork(claims_before_fork,",
          "  if (0) pthread_atfork(claims_before_fork,"),
