@@ -4,6 +4,8 @@ With --mjcf it opens that model (ctrl+L reloads it); without, an empty window
 that a model file can be dropped on.  The environment variable
 MJCFFI_VIEWER_CLOSE_AFTER (seconds) closes the window after that long, through
 GLFW's own close request, and prints the frame count: for tests and scripts.
+MJCFFI_VIEWER_MIN_FRAMES (frames) holds that close until so many frames were drawn,
+so that a test can count on frames however loaded the machine is.
 """
 
 import argparse
@@ -16,17 +18,22 @@ from ..data import MjData
 from ._managed import Simulation, file_loader
 
 CLOSE_AFTER = "MJCFFI_VIEWER_CLOSE_AFTER"
+MIN_FRAMES = "MJCFFI_VIEWER_MIN_FRAMES"
 
 
-def _close_after(simulation, seconds):
-    """Wrap the simulation's frame so that the window asks to close after `seconds`."""
+def _close_after(simulation, seconds, min_frames=0):
+    """Wrap the simulation's frame so that the window asks to close after `seconds`, and
+    not before `min_frames` frames."""
     deadline = time.monotonic() + seconds
     frame = simulation.frame
+    drawn = [0]
 
     def timed_frame():
-        if time.monotonic() > deadline and simulation.viewer.window is not None:
+        if time.monotonic() > deadline and drawn[0] >= min_frames and \
+                simulation.viewer.window is not None:
             simulation.viewer.window.request_close()
         frame()
+        drawn[0] += 1
     simulation.frame = timed_frame
 
 
@@ -42,6 +49,14 @@ def _close_after_seconds(parser):
     if not (math.isfinite(seconds) and seconds >= 0):
         parser.error(f"{CLOSE_AFTER} must be a number of seconds (0 or more), got {text!r}")
     return seconds
+
+
+def _min_frames(parser):
+    """MJCFFI_VIEWER_MIN_FRAMES as a count (0 when unset); else parser.error."""
+    text = os.environ.get(MIN_FRAMES) or "0"
+    if not text.isdigit():
+        parser.error(f"{MIN_FRAMES} must be a whole number of frames, got {text!r}")
+    return int(text)
 
 
 def _first_loaded(model, loader):
@@ -75,7 +90,7 @@ def main(argv=None):
         loader = _first_loaded(model, file_loader(path))
     simulation = Simulation(loader=loader)
     if close_after is not None:
-        _close_after(simulation, close_after)
+        _close_after(simulation, close_after, _min_frames(parser))
     simulation.run()
     if close_after is not None:
         meter = simulation.viewer.meter
