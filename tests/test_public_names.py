@@ -29,8 +29,12 @@ INCIDENTAL = {"Any", "IO", "Sequence", "TypeAlias", "Union", "ctypes", "np", "os
 
 
 def test_no_new_missing_names(mujoco):
+    import importlib.util
     official = {n for n in dir(mujoco) if not n.startswith("_")}
     missing = official - set(dir(mjcffi)) - INCIDENTAL
+    # an official submodule is an attribute of `mujoco` once any test imported it
+    # (mujoco.egl, ...): mjcffi has it when its own submodule of that name exists
+    missing = {n for n in missing if importlib.util.find_spec(f"mjcffi.{n}") is None}
     assert missing <= NOT_YET, sorted(missing - NOT_YET)
 
 
