@@ -110,7 +110,8 @@ def _kind_errors(m, q, r):
             kind = "slide" if t == mjcffi.mjtJoint.mjJNT_SLIDE else "hinge"
             pairs = [(kind, abs(q[a] - r[a]))]
         for kind, e in pairs:
-            out[kind] = max(out.get(kind, 0.0), float(e))
+            # a diverged state is an infinite error: max() would drop a NaN
+            out[kind] = max(out.get(kind, 0.0), float(e) if np.isfinite(e) else math.inf)
     return out
 
 

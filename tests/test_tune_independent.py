@@ -19,6 +19,8 @@ import pytest
 
 import mjcffi
 
+from .test_tune import _kind_errors
+
 FULL = int(mjcffi.mjtState.mjSTATE_FULLPHYSICS)
 MODELS = ("inverted_pendulum", "reacher", "swimmer", "hopper")
 BUDGETS = (1e-2, 1e-3)
@@ -73,27 +75,6 @@ def run(m, start, us, period):
     return d.qpos.copy()
 
 
-def kind_errors(m, q, r):
-    out = {}
-    for j in range(m.njnt):
-        a, t = m.jnt_qposadr[j], m.jnt_type[j]
-        if t == mjcffi.mjtJoint.mjJNT_FREE:
-            rot = np.zeros(3)
-            mjcffi.mju_subQuat(rot, q[a + 3:a + 7], r[a + 3:a + 7])
-            pairs = [("free_pos", np.linalg.norm(q[a:a + 3] - r[a:a + 3])),
-                     ("free_rot", np.linalg.norm(rot))]
-        elif t == mjcffi.mjtJoint.mjJNT_BALL:
-            rot = np.zeros(3)
-            mjcffi.mju_subQuat(rot, q[a:a + 4], r[a:a + 4])
-            pairs = [("ball", np.linalg.norm(rot))]
-        else:
-            pairs = [("slide" if t == mjcffi.mjtJoint.mjJNT_SLIDE else "hinge",
-                      abs(q[a] - r[a]))]
-        for kind, e in pairs:
-            out[kind] = max(out.get(kind, 0.0), float(e) if np.isfinite(e) else math.inf)
-    return out
-
-
 def q90(rows):
     kinds = rows[0].keys()
     return {k: float(np.quantile([r[k] for r in rows], 0.9)) for k in kinds}
@@ -131,7 +112,7 @@ def test_one_period_from_fresh_states_is_within_the_budget(tuned, name, budget):
     with mjcffi.ignore_warnings():
         for start in fresh_states(m, rng, 120, period):
             u = controls(m, rng, 1)
-            rows.append(kind_errors(m, run(r.model, start, u, period),
+            rows.append(_kind_errors(m, run(r.model, start, u, period),
                                     run(ref, start, u, period)))
     for kind, e in q90(rows).items():
         assert e <= budget, (name, budget, kind, e, r.report())
@@ -150,8 +131,8 @@ def test_half_a_second_from_fresh_states_is_within_the_stated_budget(tuned, name
         for start in fresh_states(m, rng, 64, period):
             us = controls(m, rng, nperiod)
             truth = run(fine, start, us, period)
-            tuned_rows.append(kind_errors(m, run(r.model, start, us, period), truth))
-            original_rows.append(kind_errors(m, run(m, start, us, period), truth))
+            tuned_rows.append(_kind_errors(m, run(r.model, start, us, period), truth))
+            original_rows.append(_kind_errors(m, run(m, start, us, period), truth))
     tuned_q, original_q = q90(tuned_rows), q90(original_rows)
     stated = r.error.divergence
     for kind, e in tuned_q.items():
