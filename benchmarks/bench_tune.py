@@ -32,13 +32,14 @@ from mjcffi.evaluation.timing import PeriodTimer, speed
 from mjcffi.tune._stages import unneeded_stages
 from mjcffi.warning_errors import ignore_warnings
 
+from .common import write_section
+
 NAMES = ("ant", "half_cheetah", "hopper", "humanoid", "inverted_double_pendulum",
          "inverted_pendulum", "pusher", "reacher", "swimmer", "walker2d")
 QUICK_NAMES = ("inverted_pendulum", "reacher", "hopper")
 BUDGETS = (1e-3, 1e-2)
 QUICK_BUDGETS = (1e-2,)
 HEADING = "## `mjcffi.tune` against a brute-force grid"
-OLD_HEADING = "## `mjcffi.tune` on gymnasium's models"
 RESULTS = pathlib.Path(__file__).resolve().parent / "RESULTS.md"
 
 NSTEP0 = 12                       # the control period in the model's own timesteps
@@ -294,23 +295,6 @@ def run(names=NAMES, budgets=BUDGETS):
     return lines
 
 
-def write_section(lines, path=RESULTS):
-    """Replace this benchmark's section of `path` (or the old tune section) with `lines`,
-    keeping the rest byte for byte; append it when there is none."""
-    text = path.read_text()
-    section = "\n".join(lines) + "\n"
-    keep = text.splitlines(keepends=True)
-    start = next((i for i, line in enumerate(keep)
-                  if line.rstrip("\n") in (HEADING, OLD_HEADING)), None)
-    if start is None:
-        path.write_text(text + ("" if text.endswith("\n") else "\n") + "\n" + section)
-        return
-    end = next((i for i in range(start + 1, len(keep)) if keep[i].startswith("## ")),
-               len(keep))
-    tail = "".join(keep[end:])
-    path.write_text("".join(keep[:start]) + section + ("\n" + tail if tail else ""))
-
-
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="python -m benchmarks.bench_tune",
                                      description=__doc__.splitlines()[0])
@@ -322,8 +306,8 @@ def main(argv=None):
     lines = run(QUICK_NAMES, QUICK_BUDGETS) if args.quick else run()
     print("\n".join(lines))
     if args.write:
-        write_section(lines)
-        print(f"wrote the section into {RESULTS}", file=sys.stderr)
+        path = write_section(HEADING, lines)
+        print(f"wrote the section into {path}", file=sys.stderr)
     return 0
 
 
