@@ -74,10 +74,12 @@ class Judged:
         kind = max(self.estimates, key=lambda k: self.estimates[k].value)
         return self.estimates[kind].value, kind
 
-    def meets(self, budget):
-        # the budget is a bound on the 90 % quantile: judged by the quantile on the fresh
-        # states (tune holds its own, smaller draws to the quantile's 95 % bound instead)
-        return all(e.value <= budget for e in self.estimates.values())
+    def meets(self, budget, bound=True):
+        """Whether every kind is within `budget` on the fresh states: its 95 % upper bound
+        (what tune's budget means, and what tune verifies), or with bound=False the 90 %
+        quantile's point estimate alone (a looser reading, reported beside it)."""
+        return all((e.upper if bound else e.value) <= budget
+                   for e in self.estimates.values())
 
 
 class Fresh:
@@ -159,14 +161,13 @@ def _model_rows(name, budgets):
         # only a setting that meets some budget can be the grid's best: time only those
         loosest = max(budgets)
         for j in judged:
-            if j.meets(loosest):
+            if j.meets(loosest, bound=False):
                 fresh.time(j)
         ntimed = sum(j.speed is not None for j in judged)
 
         lines, verdicts, tunes = [], [], []
         for budget in budgets:
-            meeting = [j for j in judged if j.speed is not None and j.meets(budget)]
-            best = max(meeting, key=lambda j: j.speed.value) if meeting else None
+            best, loose_best = (_best(judged, budget, bound) for bound in (True, False))
             called = time.perf_counter()
             try:
                 r = mjcffi.tune(m, budget, control_period=period, progress=False, seed=0)
@@ -193,7 +194,7 @@ def _model_rows(name, budgets):
                 grid_cells = [f"`{best.setting.label(original)}`", _speed(best.speed),
                               _error(best, budget)]
             ratio, verdict = _verdict(mine, best, budget)
-            verdicts.append(verdict)
+            verdicts.append((verdict, _verdict(mine, loose_best, budget, bound=False)[1]))
             lines.append(head.format(budget=budget) + " "
                          + " | ".join(tune_cells + grid_cells + [ratio, _say(verdict)]) + " |")
     wall = time.perf_counter() - started
@@ -203,12 +204,18 @@ def _model_rows(name, budgets):
     return lines, verdicts, wall
 
 
-def _verdict(mine, best, budget):
+def _best(judged, budget, bound):
+    """The grid's fastest setting that meets `budget` (see Judged.meets), or None."""
+    meeting = [j for j in judged if j.speed is not None and j.meets(budget, bound)]
+    return max(meeting, key=lambda j: j.speed.value) if meeting else None
+
+
+def _verdict(mine, best, budget, bound=True):
     """(tune / grid cell, verdict): True (within 10 % or cheaper), False, or 'none' when no
     grid setting meets the budget and tune found none either."""
     if mine is None:
         return "–", ("none" if best is None else False)
-    if not mine.meets(budget):
+    if not mine.meets(budget, bound):
         return ("–" if best is None else f"{mine.speed.value / best.speed.value:.2f}"), False
     if best is None:
         return "grid has none", True
@@ -227,12 +234,12 @@ def _speed(s):
 
 
 def _error(j, budget):
-    upper, kind = j.worst()
+    value, kind = j.worst()
     bound = j.estimates[kind].upper
-    if math.isinf(upper):
+    if math.isinf(value):
         return "diverged"
-    miss = "" if upper <= budget else " **over**"
-    return f"{upper:.2e} [{bound:.2e}] {kind}{miss}"
+    miss = "" if j.meets(budget) else " **over**"
+    return f"{value:.2e} [{bound:.2e}] {kind}{miss}"
 
 
 def _none_met(error, original):
@@ -261,14 +268,16 @@ def run(names=NAMES, budgets=BUDGETS):
              "from each state against the fine reference (RK4 at timestep / "
              f"{REF_FACTOR}, tight solver), the 90 % quantile over states of each joint kind's "
              "largest error, with its 95 % upper bound in brackets (a bootstrap over whole "
-             "trajectories); the budget bounds that quantile, so a setting meets it on the "
-             "fresh states when every kind's quantile is within it (tune itself holds the "
-             "bound, on its own draws, to the budget), and the error columns show the worst "
-             "kind (rad or m). "
+             "trajectories). A setting meets the budget on the fresh states when every "
+             "kind's 95 % bound is within it: that is what tune's budget means and what tune "
+             "verifies on its own held-out draw, so both sides are held to the same test "
+             "(the count below also gives the looser reading, by the quantile's point "
+             "estimate alone). The error columns show the worst kind (rad or m). "
              "Speed is × the model's own settings (with the stages tune switches off also off "
              "on both sides), CPU time of one thread running a control period from 64 of the "
              f"states, interleaved with the original, median of {PAIRS} pairs with its 95 % "
-             "interval; only grid settings that meet a budget are timed. The grid holds no "
+             "interval; only grid settings whose quantile meets a budget are timed. The grid "
+             "holds no "
              "timestep finer than the model's own, so where the model's own settings miss a "
              "budget no grid setting meets it. The grid's best is "
              "its fastest setting meeting the budget; tune is *within 10 %* when its choice "
@@ -279,20 +288,28 @@ def run(names=NAMES, budgets=BUDGETS):
              "tuning time | grid's best | grid × speed | grid's fresh error | tune / grid | "
              "within 10 %? |",
              "|---|---:|---|---:|---|---:|---|---:|---|---:|---|"]
-    verdicts = []
+    pairs = []
     for name in names:
         rows, v, _ = _model_rows(name, budgets)
         lines += rows
-        verdicts += v
+        pairs += v
     wall = time.perf_counter() - started
+    lines += ["", _count([p and p[0] for p in pairs], "Within 10 % of the grid's best or "
+                         "cheaper, both held to the 95 % bound")
+              + f" Judged by the 90 % quantile's point estimate instead (a grid setting may "
+              f"then count though its bound exceeds the budget): "
+              + _count([p and p[1] for p in pairs], "within 10 %").replace("**", "")
+              + f" Total wall time {wall / 60:.1f} min."]
+    return lines
+
+
+def _count(verdicts, what):
     good = sum(v is True for v in verdicts)
     neither = sum(v == "none" for v in verdicts)
     failed = sum(v is None for v in verdicts)
     extra = (f"; {neither} where neither the grid nor tune meets the budget" if neither else "") \
         + (f"; {failed} not compared (see the rows)" if failed else "")
-    lines += ["", f"Within 10 % of the grid's best or cheaper: **{good} of {len(verdicts)}** "
-              f"(model, budget) rows{extra}. Total wall time {wall / 60:.1f} min."]
-    return lines
+    return f"{what}: **{good} of {len(verdicts)}** (model, budget) rows{extra}."
 
 
 def main(argv=None):

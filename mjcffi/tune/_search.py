@@ -205,6 +205,33 @@ class Search:
     def _period(self):
         return self.original.timestep * self.nstep0
 
+    def one_more_step(self, c, max_nstep):
+        """`c` with one more step per control period and its solver options kept, as a
+        Candidate when its error fits the search set (else None): what to try when `c`
+        failed the held-out check, since a step more spends less of the budget than any
+        solver option does.  None past `max_nstep` steps, or when it is the original."""
+        nstep = c.nstep + 1
+        if nstep > max_nstep:
+            return None
+        timestep = (self.original.timestep if nstep == self.nstep0
+                    else self._period() / nstep)
+        s = c.setting.replace(timestep=timestep)
+        if s == self.original:
+            return None
+        more = self.evaluate(s, nstep)
+        if not self.fits(more.estimates):
+            more.status = "one step more after a held-out failure: error over the budget"
+            return None
+        more.reasons = dict(c.reasons)
+        before = _steps(self.nstep0, self.original.integrator)
+        why = (f"{_steps(nstep, s.integrator)} per control period instead of {before}: one "
+               f"more than {c.nstep}, which failed the held-out check "
+               f"({self.budget.describe(more.estimates)})")
+        for f in s.changes(self.original):
+            if f in ("integrator", "timestep"):
+                more.reasons[f] = why
+        return more
+
     def _structural_reasons(self, c):
         before = _steps(self.nstep0, self.original.integrator)
         after = _steps(c.nstep, c.setting.integrator)

@@ -42,6 +42,9 @@ EQUAL = 1.01
 # further when the original's own settings miss the budget
 MORE_STEPS = 2
 MORE_STEPS_WHEN_MISSED = 8
+# candidates with one more step per period, tried after held-out failures (each costs a
+# search-set evaluation and a timing)
+FALLBACKS = 6
 
 
 def default_period(timestep):
@@ -237,7 +240,8 @@ def _run(run, stages, base_disable, search_set, held_set, horizon_controls, pool
         candidates, ranked = _cheapest_candidates(search, own, own_ok)
     else:
         candidates, ranked = _accurate_candidates(search, own)
-    chosen = _first_verified(search, check, ranked, own, own_ok, run.objective)
+    chosen, added = _first_verified(search, check, ranked, own, own_ok, run.objective)
+    candidates = _unique(candidates + added)
     if chosen is None:
         if not own_ok:
             raise _no_setting([own] + candidates, check)
@@ -325,9 +329,13 @@ def _accurate_candidates(search, own):
 
 def _first_verified(search, check, ranked, own, own_ok, objective):
     """The first of `ranked` that passes the held-out check; every one is tried in turn.
-    When a refined candidate fails, the one it refined (one solver option less, so less
-    of the budget spent) joins the queue, timed and ranked like the others."""
+    When a candidate fails, two that spend less of the budget join the queue, timed and
+    ranked like the others: the one it refined (one solver option less) and, for
+    'cheapest', the same setting with one more step per period (at most FALLBACKS of
+    those in all)."""
     queue = list(ranked)
+    max_nstep = search.nstep0 * (MORE_STEPS if own_ok else MORE_STEPS_WHEN_MISSED)
+    added, seen = [], {(c.setting, c.nstep) for c in queue}
     while queue:
         c = queue.pop(0)
         if objective == "cheapest" and own_ok and c.speed.low < MIN_GAIN:
@@ -339,15 +347,25 @@ def _first_verified(search, check, ranked, own, own_ok, objective):
                 Budget(measures.values(own.held_out), paired=True).worst(c.held_out) >= 1.0:
             problem = "no more accurate than the original on held-out states"
         if problem is None:
-            return c
+            return c, added
         c.status = problem
+        more = []
         before = c.previous
         if before is not None and before is not own and before.held_out is None:
-            if before.speed is None:
-                before.speed = search.speed((own.setting, own.nstep),
-                                            (before.setting, before.nstep))
-            queue = _ranked(queue + [before], search.budget)
-    return None
+            more.append(before)
+        if objective == "cheapest" and len(added) < FALLBACKS:
+            step = search.one_more_step(c, max_nstep)
+            if step is not None and (step.setting, step.nstep) not in seen:
+                added.append(step)
+                more.append(step)
+        for extra in more:
+            seen.add((extra.setting, extra.nstep))
+            if extra.speed is None:
+                extra.speed = search.speed((own.setting, own.nstep),
+                                           (extra.setting, extra.nstep))
+        if more:
+            queue = _ranked(queue + more, search.budget)
+    return None, added
 
 
 def _outcome(search, chosen, own, own_ok, held_set, m, base_disable):
