@@ -35,9 +35,8 @@ def generate():
         **simgetters.generate(described, decls),
         **simconst.generate(decls, header_texts),
     }
-    # mujoco-py's functions call mjcffi's: read from this run's mjcffi/_functions.py
-    files.update(simfunctions.generate(decls, notes, header_texts,
-                                       files["mjcffi/_functions.py"]))
+    # mujoco-py's functions call mjcffi's: read from this run's mjcffi/_functions/
+    files.update(simfunctions.generate(decls, notes, header_texts, functions.text_of(files)))
     return files
 
 

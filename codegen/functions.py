@@ -1,4 +1,4 @@
-"""Write mjcffi/_functions.py: one Python function per function of mujoco.h and mjbatch.h.
+"""Write mjcffi/_functions/: one Python function per function of mujoco.h and mjbatch.h.
 
 Each function converts its arguments with mjcffi/_support/marshal.py, calls the
 guarded twin `lib.mjcffi_guard_F` (so that mju_error raises FatalError) and
@@ -729,30 +729,22 @@ _RENDER_HELPERS = ("render_scene", "figure_fields", "ascii_text", "overlay_text"
 _ELEMS = {"mjtNum": "NUM", "double": "NUM", "float": "FLOAT", "int": "INT",
           "mjtByte": "BYTE", "unsigned char": "BYTE", "mjtSize": "SIZE", "mjtBool": "BOOL"}
 
-_HEAD = '''"""MuJoCo's functions, one Python function each, with the official bindings' signatures.
+_COMMON = '''"""What every module of mjcffi._functions uses: the support layer and the
+converters its fast paths call, bound once, and the members of the enums it checks."""
 
-Each function F comes in three parts.  `_F(args)`, the slow path, checks and
-converts the arguments with mjcffi/_support/marshal.py (see its docstring for the rules)
-and calls the guarded C twin `lib.mjcffi_guard_F`, so that a mju_error raises
-mjcffi.FatalError.  `F(args)` first tries its fast path, where one exists:
-exact NumPy arrays of the right dtype, layout and shape, ids in range, tested
-inline and passed straight to C; anything else, or anything the fast path is
-unsure of, goes to `_F(args)`, with its conversions and its messages.
-`F.prepare(args)` runs `_F(args, prepare=True)`, which hands what it converted
-to `_bind_F`: the guarded call, ready to make (mjcffi/_support/prepared.py).
-Sizes such as mju_add's `n` are deduced from the arrays.  `lib.<name>` is the
-raw C function.
-"""
+from .. import structs as _structs
+from .._support import contract as _contract
+from .._support import checks as _c
+from .._support import handles as _h
+from .._support import marshal as _m
+from .._support import mjr as _r
+from .._support import prepared as _p
+from .._support.library import lib as _lib
 
-from . import structs as _structs
-from ._support import contract as _contract
-from ._support import checks as _c
-from ._support import handles as _h
-from ._support import marshal as _m
-from ._support import mjr as _r
-from ._support import prepared as _p
-from ._support.arena import _realloc_con_efc, _realloc_island  # noqa: F401  (official private)
-from ._support.library import lib as _lib
+__all__ = ["_structs", "_contract", "_c", "_h", "_m", "_r", "_p", "_lib", "_nd", "_fb",
+           "_NULL", "_SLOW", "_int", "_str", "_getattr", "_NUM_dt", "_NUM_ct", "_FLOAT_dt",
+           "_FLOAT_ct", "_INT_dt", "_INT_ct", "_BYTE_dt", "_BYTE_ct", "_SIZE_dt", "_SIZE_ct",
+           "_BOOL_dt", "_BOOL_ct", "_ENUMS"]
 
 # what the fast paths test and convert with, bound once (and the builtins they use under
 # names no argument can shadow: mju_str2Type's argument is `str`)
@@ -1539,7 +1531,8 @@ def _unsupported(func, note, reason, described, typedefs):
 
 
 def generate(decls, notes, described, header_texts):
-    """{"mjcffi/_functions.py": text} for every function of the parsed headers."""
+    """{path: text} of mjcffi/_functions/: its __init__ (names, lazy lookup), _common and
+    one module per section of mujoco.h (and mjbatch.h), every function of the headers."""
     constants = _defines(header_texts, decls)
     for table in (SHAPES, KEEP, BOUNDS, CHECKS, ERRORS, RETURNS, RELEASES, OWNED, RENAMES, OMIT,
                   NULLABLE, NOT_NULLABLE, OVERRIDES, UNSUPPORTED, MESSAGES, SIZED, BIND,
@@ -1564,14 +1557,17 @@ def generate(decls, notes, described, header_texts):
         if arg not in {a.name for a in decls.functions[name].args} or enum not in decls.enums:
             raise ValueError(f"ENUM_INTS[{name}, {arg}]: no such argument or enum {enum}")
         enums.setdefault(name, {})[arg] = enum
-    blocks = []
+    group_of = sections(header_texts, decls.functions)
+    groups = {}            # section -> ([blocks], [names defined])
     for name, func in decls.functions.items():
         note = notes.functions.get(name)
         if name in OVERRIDES:          # hand-written: mjcffi/functions/__init__.py puts it in place
             continue
+        blocks, defined = groups.setdefault(group_of[name], ([], []))
         if name in UNSUPPORTED:
             blocks.append(_unsupported(func, note, UNSUPPORTED[name], described,
                                        decls.typedefs))
+            defined.append(name)
             continue
         writer = _Function(func, note, described, decls.typedefs, constants, ids, enums)
         reason = writer.unsupported_reason()
@@ -1581,10 +1577,117 @@ def generate(decls, notes, described, header_texts):
         blocks.append(writer.bind_block())
         blocks.append(writer.marshal_block(params))
         blocks.append(writer.public_block(params))
+        defined += [name, "_" + name, "_bind_" + name]
         FAST_PATHS[name] = writer.has_fast_path
-    text = outputs.HEADER_PY + _HEAD + _enum_table(decls, enums) + "\n\n" + \
-        "\n\n\n".join(blocks) + "\n"
-    return {"mjcffi/_functions.py": text}
+    hand_docs = {name: (notes.functions[name].doc if name in notes.functions else "")
+                 for name in decls.functions if name in OVERRIDES}
+    files = {f"{PACKAGE}/__init__.py": _package_init(groups, list(decls.functions), hand_docs),
+             f"{PACKAGE}/_common.py": outputs.HEADER_PY + _COMMON + _enum_table(decls, enums)}
+    for section, (blocks, _) in sorted(groups.items()):
+        files[f"{PACKAGE}/{section}.py"] = (
+            outputs.HEADER_PY + f'"""MuJoCo\'s functions of {_SECTION_TITLES[section]} (see '
+            f'the package\'s docstring)."""\n\nfrom ._common import *  # noqa: F401,F403  '
+            f'(the names every function uses)\n\n\n' + "\n\n\n".join(blocks) + "\n")
+    return files
+
+
+def text_of(files):
+    """The whole function layer as one text, sections in order (for readers of its
+    source, such as codegen/simfunctions.py)."""
+    return "\n".join(text for path, text in sorted(files.items())
+                     if path.startswith(PACKAGE + "/"))
+
+
+# the function layer: a package at the official path mujoco._functions, one module per
+# section of mujoco.h, each imported on first use of one of its names
+PACKAGE = "mjcffi/_functions"
+_SECTION_HEADING = re.compile(r"^//-+\s*(.+?)\s*-+\s*$")
+_SECTION_TITLES = {}
+
+
+def sections(header_texts, functions):
+    """{function: module name}: the section of mujoco.h it is declared under (its
+    `//---- Main simulation ----` heading, as main_simulation), and batch for mjbatch.h."""
+    out = {}
+    for header, default in (("mujoco.h", None), ("mjbatch.h", "batch")):
+        section = default
+        if default:
+            _SECTION_TITLES[default] = "mjbatch.h"
+        for line in header_texts[header].splitlines():
+            heading = _SECTION_HEADING.match(line)
+            if heading and not default:
+                title = heading.group(1)
+                section = re.sub(r"\W+", "_", title.lower()).strip("_")
+                _SECTION_TITLES[section] = f"mujoco.h's section {title!r}"
+                continue
+            for name in re.findall(r"\b(mj\w+)\s*\(", line):
+                if name in functions and name not in out and section:
+                    out[name] = section
+    missing = sorted(set(functions) - set(out))
+    if missing:
+        raise ValueError(f"functions under no section of mujoco.h or mjbatch.h: {missing}")
+    return out
+
+
+def _package_init(groups, names, hand_docs):
+    """mjcffi/_functions/__init__.py: every function's name, which module defines each
+    generated name, and the lazy lookup."""
+    lines = [outputs.HEADER_PY.rstrip("\n"), _PACKAGE_DOC, "",
+             "import importlib as _importlib", "",
+             "from .._support.arena import _realloc_con_efc, _realloc_island  # noqa: F401  "
+             "(official private)", "",
+             "# every function of mujoco.h and mjbatch.h, in the headers' order; those not in",
+             "# _MODULE_OF are hand-written (mjcffi/functions/_overrides.py)",
+             _wrapped("NAMES = (", [f'"{n}"' for n in names], ")", "    "), "",
+             "# name -> the module of this package that defines it",
+             "_MODULE_OF = {"]
+    for section, (_, defined) in sorted(groups.items()):
+        lines.append(_wrapped("    **dict.fromkeys((", [f'"{n}"' for n in defined],
+                              f'), "{section}"),', "        "))
+    lines += ["}", "", "# the header's doc comment of each hand-written one (mjcffi/functions puts it in",
+              "# their docstrings without loading the whole table of mjcffi._generated.funcinfo)",
+              "HAND_WRITTEN_DOCS = {"]
+    lines += [f"    {name!r}: {doc!r}," for name, doc in hand_docs.items()]
+    lines += ["}", "", "", _PACKAGE_TAIL]
+    return "\n".join(lines)
+
+
+_PACKAGE_DOC = '''"""MuJoCo's functions, one Python function each, with the official bindings' signatures.
+
+One module per section of mujoco.h (main_simulation, support, vector_math, ...) and
+one for mjbatch.h.  A module is imported on first use of one of its names, here or
+through mjcffi, so that a process without .pyc files compiles only what it calls.
+
+Each function F comes in three parts.  `_F(args)`, the slow path, checks and
+converts the arguments with mjcffi/_support/marshal.py (see its docstring for the rules)
+and calls the guarded C twin `lib.mjcffi_guard_F`, so that a mju_error raises
+mjcffi.FatalError.  `F(args)` first tries its fast path, where one exists:
+exact NumPy arrays of the right dtype, layout and shape, ids in range, tested
+inline and passed straight to C; anything else, or anything the fast path is
+unsure of, goes to `_F(args)`, with its conversions and its messages.
+`F.prepare(args)` runs `_F(args, prepare=True)`, which hands what it converted
+to `_bind_F`: the guarded call, ready to make (mjcffi/_support/prepared.py).
+Sizes such as mju_add's `n` are deduced from the arrays.  `lib.<name>` is the
+raw C function.
+"""'''
+
+_PACKAGE_TAIL = '''def __getattr__(name):
+    module = _MODULE_OF.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(_importlib.import_module(f"{__name__}.{module}"), name)
+    globals()[name] = value          # the next lookup is a plain global
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_MODULE_OF))
+
+
+def modules():
+    """Every module of the layer, imported."""
+    return [_importlib.import_module(f"{__name__}.{m}") for m in sorted(set(_MODULE_OF.values()))]
+'''
 
 
 def _enum_table(decls, enums):

@@ -56,7 +56,7 @@ result: a test fails when these files drift from what codegen writes.
 
 These are tables: they import nothing of the package, and any module may read them. The
 other generated code lives beside what it serves: the function layer
-(`mjcffi/_functions.py`), the struct classes (`mjcffi/structs/`), the guards and cdef
+(`mjcffi/_functions/`, one module per section of mujoco.h), the struct classes (`mjcffi/structs/`), the guards and cdef
 (`mjcffi/_c/generated/`) and mujoco-py's names (`mjcffi/sim/generated/`).
 """
 

@@ -262,7 +262,7 @@ def _signatures(source, names):
 
 
 def mjcffi_signatures(functions_text, decls):
-    """mjcffi.functions' parameters per function: the generated mjcffi/_functions.py
+    """mjcffi.functions' parameters per function: the generated mjcffi/_functions/
     (this run's text), and the hand-written overrides for the names they replace."""
     names = set(decls.functions)
     found = _signatures(functions_text, names)

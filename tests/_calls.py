@@ -362,13 +362,16 @@ class _Reached(Exception):
 def stubbed():
     """The generated functions call a stub instead of MuJoCo, within the block."""
     from mjcffi import _functions
-    real, checks = _functions._lib, _functions._r
-    _functions._lib = stub = _Stub(real)
-    _functions._r = _NoOpenGL(checks)
+    modules = _functions.modules()       # each section's module binds _lib and _r itself
+    real, checks = modules[0]._lib, modules[0]._r
+    stub = _Stub(real)
+    for module in modules:
+        module._lib, module._r = stub, _NoOpenGL(checks)
     try:
         yield stub
     finally:
-        _functions._lib, _functions._r = real, checks
+        for module in modules:
+            module._lib, module._r = real, checks
 
 
 class _NoOpenGL:

@@ -62,7 +62,7 @@ def test_basic_types_have_the_abi_sizes(name, size):
 #   tables     mjcffi/_generated/          generated data; imports nothing of the package
 #   compiled   mjcffi._mjcffi              built from mjcffi/_c/
 #   support    mjcffi/_support/            imports the compiled module, tables and itself
-#   generated  mjcffi/structs/, mjcffi/_functions.py   (the kept paths) use those three
+#   generated  mjcffi/structs/, mjcffi/_functions/   (the kept paths) use those three
 #   top        everything else: the public modules and subpackages, the mujoco-py face
 # Every import statement counts, one inside a function too ("imported on use" is still
 # an import of that module), and no module may reach itself through its imports.
@@ -222,7 +222,7 @@ def test_generated_files_lie_in_the_generated_places_and_nothing_else_does():
     # the generated folders, and the two generated modules kept at paths users and pickles
     # name (mjcffi._functions, mjcffi.structs)
     places = ("mjcffi/_generated/", "mjcffi/_c/generated/", "mjcffi/sim/generated/",
-              "mjcffi/structs/", "mjcffi/_functions.py")
+              "mjcffi/structs/", "mjcffi/_functions/")
     for path in sorted(PACKAGE.rglob("*")):
         if not path.is_file() or path.suffix not in (".py", ".pyi", ".c", ".h", ".md"):
             continue

@@ -4,7 +4,7 @@
 MuJoCo allocates the contacts, the constraint rows and the islands of a step in
 the mjData's arena.  Code that computes them elsewhere (MJX, MuJoCo Warp) and
 copies them into an mjData first makes room for them with these functions; the
-generated mjcffi/_functions.py imports them, so that they are found where the
+generated mjcffi/_functions/__init__.py imports them, so that they are found where the
 official bindings have them.  The layout itself is C (mjcffi_realloc_con_efc
 and mjcffi_realloc_island in _helper.c), from mjxmacro.h's lists.
 

@@ -1,4 +1,4 @@
-"""Argument marshalling for MuJoCo's functions: the runtime half of mjcffi/_functions.py.
+"""Argument marshalling for MuJoCo's functions: the runtime half of mjcffi/_functions/.
 
 codegen/functions.py writes one plain function per MuJoCo function; each is
 a short list of calls into this module, then the guarded C call.  The rules:

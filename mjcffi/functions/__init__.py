@@ -1,29 +1,36 @@
 """MuJoCo's functions as Python functions: `mjcffi.mj_step`, `mjcffi.mj_jac`, ...
 
-Most are generated (mjcffi/_functions.py); the few whose documented Python
-signature differs from C are hand-written (`_overrides`, and `_mjui` for the UI
-functions, whose item definitions need checking) and take their place here, with
-the docstring in the generated ones' shape: the signature line, the header's doc
-comment, then their own notes.  Every function has `prepare`
-(mjcffi/_support/prepared.py).  `mjcffi` itself resolves a function name
-through this package on first use.
+Most are generated (mjcffi/_functions/, one module per section of mujoco.h); the few
+whose documented Python signature differs from C are hand-written (`_overrides`, and
+`_mjui` for the UI functions, whose item definitions need checking) and take their
+place here, with the docstring in the generated ones' shape: the signature line, the
+header's doc comment, then their own notes.  Every function has `prepare`
+(mjcffi/_support/prepared.py).  `mjcffi` itself resolves a function name through this
+package on first use.
+
+Names resolve on first use, each importing only the module that defines it, so that a
+process without .pyc files compiles only the functions it calls.
 """
 
 import functools
-import inspect
+import importlib
 
 from .. import _functions
-from .._generated import funcinfo as _funcinfo
-from . import _overrides
 from .._support import prepared as _prepared
 
-NAMES = tuple(_funcinfo.FUNCTIONS)
+NAMES = _functions.NAMES
+_NAMESET = frozenset(NAMES)
+# these return the hand-written mjcffi.MjSpec rather than the generated struct class
+_RETURNING_MJSPEC = frozenset(("mj_makeSpec", "mj_copySpec", "mj_parseXML",
+                               "mj_parseXMLString", "mj_parse"))
 
 
 def _document(function, name):
     """A hand-written function's docstring in the generated ones' shape: its
     signature line, the header's doc comment, then its own notes."""
-    header = _funcinfo.FUNCTIONS[name].doc
+    import inspect
+    from . import _overrides
+    header = _functions.HAND_WRITTEN_DOCS[name]
     own = inspect.cleandoc(function.__doc__ or "")
     function.__doc__ = (_overrides.SIGNATURES[name] + "\n\n" + header + "\n"
                         + ("\n" + own + "\n" if own else ""))
@@ -42,13 +49,22 @@ def _returning_mjspec(function):
     return call
 
 
-for _name in NAMES:
-    if hasattr(_overrides, _name):
-        globals()[_name] = _document(getattr(_overrides, _name), _name)
+def __getattr__(name):
+    if name not in _NAMESET:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    if name in _functions._MODULE_OF:
+        value = getattr(_functions, name)
     else:
-        globals()[_name] = getattr(_functions, _name)
-for _name in ("mj_makeSpec", "mj_copySpec", "mj_parseXML", "mj_parseXMLString", "mj_parse"):
-    globals()[_name] = _returning_mjspec(globals()[_name])
-del _name
+        overrides = importlib.import_module("._overrides", __name__)
+        value = _document(getattr(overrides, name), name)
+    if name in _RETURNING_MJSPEC:
+        value = _returning_mjspec(value)
+    globals()[name] = value              # the next lookup is a plain global
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | _NAMESET)
+
 
 __all__ = list(NAMES)
