@@ -292,3 +292,30 @@ def test_8_the_chosen_setting_is_drawn_on_top(chain_result):
     x, y = chosen.get_offsets()[0]
     assert x == pytest.approx(c.speedup)
     assert y == pytest.approx(max(worst_ratio(c.error, chain_result.error.budget), 1e-6))
+
+
+# --------------------------------------------- held-out failures: one more step
+
+def test_a_held_out_failure_brings_the_same_setting_with_one_more_step(monkeypatch):
+    # every setting the search found fails the held-out check here; a setting with one
+    # more step per period than a failed one may still pass, and is then chosen
+    m = chain()
+    problem = _tune._Verification.problem
+    failed = []
+
+    def only_one_more_step_passes(self, c):
+        out = problem(self, c)
+        if c is self.own or any("one more than" in r for r in c.reasons.values()):
+            return out
+        failed.append(c)
+        return out or "made to fail by the test"
+    monkeypatch.setattr(_tune._Verification, "problem", only_one_more_step_passes)
+    r = mjcffi.tune(m, 1e-3, control_period=0.01, progress=False)
+    assert failed
+    chosen = next(c for c in r.candidates if c.status == "chosen")
+    before = next(f for f in failed if f.nstep + 1 == chosen.nstep and
+                  f.setting.replace(timestep=chosen.setting.timestep) == chosen.setting)
+    assert chosen.speed is not None and chosen.held_out is not None
+    assert f"one more than {before.nstep}" in r.settings["timestep"].reason
+    added = [c for c in r.candidates if any("one more than" in x for x in c.reasons.values())]
+    assert 1 <= len(added) <= _tune.FALLBACKS
