@@ -2,13 +2,15 @@
 argument declared as a C enum, and a scene against the model it is used with.
 
 Hand-written, beside the generated modules of mjcffi/structs/ (the scene's
-constructor records what it was made for here); imports only the compiled module and
-official.py.
+constructor records what it was made for, and zeroes its fresh buffers, here); imports
+only numpy, the compiled module and official.py.
 """
 
 import operator
 import reprlib
 import weakref
+
+import numpy as np
 
 from . import official as _official
 from .library import ffi
@@ -97,9 +99,43 @@ class _Made:
         self.layout, self.buffers, self.fits = layout, buffers, None
 
 
+# mjv_makeScene mallocs the scene's geoms and the buffers that mjv_updateScene fills
+# later, and leaves them as the heap had them.  A client that fills a marker geom
+# field by field (not through mjv_initGeom) then hands mjr_render whatever was there
+# (a matid of 0x55xx from a freed block); zeroed, such a client sees the same scene
+# each run, as it did where the heap happened to be fresh.  The buffers that MuJoCo
+# fills from the model (flexedgeadr, skinvertnum, ...) are left as it set them.
+def _zero(pointer, count, ctype):
+    """Zero `count` items of C type `ctype` at `pointer` (cffi has no memset)."""
+    if count > 0:
+        np.frombuffer(ffi.buffer(pointer, count * ffi.sizeof(ctype)), np.uint8)[:] = 0
+
+
+def _zero_buffers(scn, model):
+    """Zero what mjv_makeScene allocated in C mjvScene `scn` (made for C mjModel `model`,
+    or NULL) and left unset: geoms, geomorder and the flex and skin output buffers."""
+    _zero(scn.geoms, scn.maxgeom, "mjvGeom")
+    _zero(scn.geomorder, scn.maxgeom, "int")
+    if model == NULL:
+        return                            # no flexes or skins were allocated
+    if scn.nflex:
+        nface = sum(scn.flexfacenum[f] for f in range(scn.nflex))
+        _zero(scn.flexfaceused, scn.nflex, "int")
+        _zero(scn.flexvert, 3 * model.nflexvert, "float")
+        if nface:                         # else MuJoCo leaves the face buffers NULL
+            _zero(scn.flexface, 9 * nface, "float")
+            _zero(scn.flexnormal, 9 * nface, "float")
+            _zero(scn.flextexcoord, 6 * nface, "float")
+    if scn.nskin:
+        _zero(scn.skinvert, 3 * model.nskinvert, "float")
+        _zero(scn.skinnormal, 3 * model.nskinvert, "float")
+
+
 def made_for(scene, model):
     """Record in MjvScene `scene` that mjv_makeScene made it for C mjModel `model`
-    (NULL: none), as its constructor and mjcffi's mjv_makeScene do."""
+    (NULL: none), as its constructor and mjcffi's mjv_makeScene do right after making
+    it; first zero the buffers that MuJoCo left unset (_zero_buffers)."""
+    _zero_buffers(scene._ptr, model)
     made = layout(model)
     nflex = made[0][0] if made[0] else 0
     scene.__dict__["_made_for"] = _Made(made, _buffers(scene._ptr, nflex))

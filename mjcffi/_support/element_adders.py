@@ -74,6 +74,11 @@ def _sized(cls, key, value, length, padded=False, scalable=False):
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__"):
         raise TypeError(f"{cls.__name__}.{key} takes a list/array of size {length}, "
                         f"not {type(value).__name__}")
+    # the official's keywords are C++ arrays of numbers: unlike the attribute, they
+    # refuse a column (n, 1) or a nested list
+    if any(isinstance(item, (list, tuple)) or getattr(item, "ndim", 0) for item in value):
+        raise TypeError(f"{cls.__name__}.{key} as a keyword takes a flat list/array of "
+                        f"size {length}, not a nested one or a column (as the official)")
     size = len(value)
     if padded:
         if not 1 <= size <= length:

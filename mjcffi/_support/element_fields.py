@@ -11,13 +11,14 @@ as _handles.py and _checks.py are).
 - `member_ref`: a pointer to a struct the element owns (its mjsElement, a
   default's geom): one wrapper, kept on the element's;
 - `element_setattr`: `__setattr__` of the spec structs: a fixed array takes a
-  sequence of exactly its length (as the official), quickly.
+  sequence of exactly its length, flat or as a column (as the official), quickly.
 
 The std::vector fields are _element_vectors.py's (`vector_field`, which checks its
 values with `_where`, `_text`, `_made` and `_cast` from here), the add_* methods
 _element_adders.py's, and the one wrapper of each element _elements.py's.
 """
 
+import numbers
 import operator
 
 import numpy as np
@@ -379,25 +380,57 @@ def _array_setter(name, length, dtype, scalable):
 
 
 def _exactly(self, name, value, length, dtype, scalable):
-    """`value` as `length` numbers of `dtype`: the official takes a sequence of that
-    length only (and a scalar where `scalable`); ArgumentError otherwise."""
+    """`value` as `length` numbers of `dtype`, by the official's rules: a sequence or
+    array of shape (length,) or a column (length, 1) (the official's setters take an
+    Eigen vector: body.fullinertia = np.full((6, 1), np.nan)), nested lists too; a
+    scalar where `scalable`.  Anything else raises ArgumentError (a TypeError, as the
+    official's setters raise, and a ValueError, as its scalable ones raise).
+
+    Stricter than the official on values, where it would change them: numbers only
+    (it parses strings, takes None as NaN and drops imaginary parts), and for int
+    fields whole numbers in range (`_cast`; it truncates 1.5 and stores NaN as
+    INT_MIN)."""
     where = _where(self, name)
     wanted = f"a scalar or a list/array of size {length}" if scalable else \
         f"a list/array of size {length}"
+    shapes = f"shape ({length},) or ({length}, 1)"
     if isinstance(value, (str, bytes)):
-        raise TypeError(f"{where} takes {wanted}, not {type(value).__name__}")
+        raise _errors.ArgumentError(f"{where} takes {wanted}, not {type(value).__name__}")
     try:
         array = np.asarray(value)
-    except (TypeError, ValueError) as exc:
-        raise TypeError(f"{where} takes {wanted}: {exc}") from None
+    except (TypeError, ValueError) as exc:          # ragged nesting, a failing __array__
+        raise _errors.ArgumentError(f"{where} takes {wanted} ({shapes}): {exc}") from None
+    if array.dtype.kind == "O":
+        array = _real_numbers(array)
     if array.dtype.kind not in "biuf":
-        raise TypeError(f"{where} takes numbers, not {array.dtype}")
+        raise _errors.ArgumentError(f"{where} takes real numbers, not {_items(array)}")
     if array.ndim == 0 and scalable:
         array = np.full(length, array)
+    if array.shape == (length, 1):
+        array = array.reshape(length)
     if array.shape != (length,):
         got = "a scalar" if array.ndim == 0 else f"shape {array.shape}"
-        raise _errors.ArgumentError(f"{where} takes {wanted}, not {got}")
+        raise _errors.ArgumentError(f"{where} takes {wanted} ({shapes}), not {got}")
     return _cast(self, name, array, dtype)
+
+
+def _real_numbers(array):
+    """An object array (np.array([1, 2.5], dtype=object), a list of Fractions) as
+    float64 where every item is a real number; else unchanged, for the caller to refuse."""
+    items = array.ravel().tolist()
+    if items and all(isinstance(item, (numbers.Real, np.bool_)) for item in items):
+        return array.astype(np.float64)
+    return array
+
+
+def _items(array):
+    """What the items of a refused array are, for a message: 'str', 'NoneType', ..."""
+    if array.dtype.kind != "O":
+        return {"U": "str", "S": "bytes", "c": "complex"}.get(array.dtype.kind,
+                                                               str(array.dtype))
+    kinds = sorted({type(item).__name__ for item in array.ravel().tolist()
+                    if not isinstance(item, (numbers.Real, np.bool_))})
+    return ", ".join(kinds) or "object"
 
 
 def _cast(self, name, array, dtype):
