@@ -12,8 +12,9 @@ It needs the `glfw` package (pip install 'mjcffi[glfw]') and a display (under
 Xvfb where there is none).  Modules: `_window` (the GLFW window and its
 callbacks), `_input` (the mjuiState of the mouse and keys), `_interaction`
 (camera, selection, perturbation), `_viewer` (the render loop), `_overlay`
-(info and help text), `_panels` (the optional UI panels of `_ui`), `_passive`
-and `_managed` (the two ways to run it).
+(info and help text), `_user_overlays` (the passive handle's figures, texts and
+images), `_history` (the bounded history of states), `_panels` (the optional UI
+panels of `_ui`), `_passive` and `_managed` (the two ways to run it).
 """
 
 from ._managed import launch, launch_from_path

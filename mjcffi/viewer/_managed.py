@@ -9,6 +9,11 @@ while paused, ctrl+L reloads the model from its file or loader; a file dropped o
 the window is loaded.  A mouse perturbation goes into the data before each step:
 all of xfrc_applied is cleared, then mjv_applyPerturbPose and
 mjv_applyPerturbForce apply it (paused, the pose moves the body itself).
+
+As in MuJoCo's simulate, a `History` keeps the state after each frame that
+stepped: LEFT pauses and shows the state one further back, RIGHT one forward
+again (and steps once back at the newest).  Resuming from a state in the past
+forgets the newer ones, so the history stays this run's past.
 """
 
 import os
@@ -21,6 +26,7 @@ from .._functions import mj_resetData, mjv_applyPerturbForce, mjv_applyPerturbPo
 from ..functions._overrides import mj_forward, mj_step
 from ..data import MjData
 from ..model import MjModel
+from ._history import History
 from ._viewer import FRAME_INTERVAL, Viewer
 from ._window import report
 
@@ -66,6 +72,7 @@ class Simulation:
         self._pending = loader            # a loader to run at the next frame
         self._sync_wall = self._sync_sim = None
         self._frame_time = FRAME_INTERVAL   # seconds the last frame took
+        self._new_history()
 
     @property
     def paused(self):
@@ -83,8 +90,9 @@ class Simulation:
         elif key == glfw.KEY_BACKSPACE:
             self._reset()
         elif key == glfw.KEY_RIGHT and self.viewer.paused:
-            with self.viewer.lock:
-                self._step()
+            self._step_forward()
+        elif key == glfw.KEY_LEFT:
+            self._scrub(-1)
 
     def _on_action(self, action):
         """What the user did in the UI panels (their Pause box shares SPACE)."""
@@ -92,14 +100,17 @@ class Simulation:
         if action == "pause":
             self._pause(bool(panels.get("paused", not self.viewer.paused)))
         elif action == "step" and self.viewer.paused:
-            with self.viewer.lock:
-                self._step()
+            self._step_forward()
         elif action == "reset":
             self._reset()
         elif action == "speed":
             self._sync_wall = None
 
     def _pause(self, paused):
+        if not paused and self.viewer.scrub < 0:
+            # the run goes on from the state shown: the newer ones are no longer its past
+            self.history.drop_newest(-self.viewer.scrub)
+            self.viewer.scrub = 0
         self.viewer.paused = paused
         if self.viewer.panels is not None:
             self.viewer.panels.set("paused", paused)
@@ -109,6 +120,7 @@ class Simulation:
         with self.viewer.lock:
             mj_resetData(self.model, self.data)
             mj_forward(self.model, self.data)
+        self.viewer.scrub = 0
         self._sync_wall = None
 
     def _speed(self):
@@ -133,6 +145,7 @@ class Simulation:
         self.model, self.data = model, data
         mj_forward(model, data)
         self.viewer.set_model(model, data)
+        self._new_history()
         self.viewer.message = ""
         path = getattr(loader, "path", None)
         self.viewer.window.set_title(f"{os.path.basename(path)} - MuJoCo (mjcffi)" if path
@@ -149,6 +162,34 @@ class Simulation:
         else:
             report("loading the model")
         self.viewer.message = f"load failed: {text}"[:200]
+
+    # ------------------------------------------------------------ history
+
+    def _new_history(self):
+        """A History of the model now, holding its state now."""
+        self.history = History(self.model)
+        self.history.record(self.model, self.data)
+        self.viewer.scrub = 0
+
+    def _scrub(self, delta):
+        """Pause and show the state `delta` steps forward (+1) or back (-1) in the
+        history, within what it holds; 0 is the newest."""
+        if not self.viewer.paused:
+            self._pause(True)
+        scrub = min(0, max(self.viewer.scrub + delta, 1 - len(self.history)))
+        with self.viewer.lock:
+            self.history.restore(self.model, self.data, scrub - 1)
+            mj_forward(self.model, self.data)
+        self.viewer.scrub = scrub
+
+    def _step_forward(self):
+        """RIGHT while paused: forward in the history, or, at its newest, one step."""
+        if self.viewer.scrub < 0:
+            self._scrub(+1)
+            return
+        with self.viewer.lock:
+            self._step()
+            self.history.record(self.model, self.data)
 
     # ------------------------------------------------------------ physics
 
@@ -178,17 +219,22 @@ class Simulation:
             if behind is None or behind > slack or behind < -slack:
                 self._sync_wall, self._sync_sim = start, self.data.time
                 self._step()
+                self.history.record(self.model, self.data)
                 return
             # a share of the last frame's time: slow drawing (software OpenGL) must
             # not starve the physics
             budget = STEP_BUDGET * max(FRAME_INTERVAL, min(self._frame_time, 0.5))
             before = self.data.time
+            stepped = False
             while (self.data.time - self._sync_sim < (time.monotonic() - self._sync_wall) * speed
                    and time.monotonic() - start < budget):
                 self._step()
+                stepped = True
                 if self.data.time < before:      # the model reset itself
                     self._sync_wall = None
                     break
+            if stepped:                          # one state a frame, as MuJoCo's simulate
+                self.history.record(self.model, self.data)
 
     # ------------------------------------------------------------ the loop
 

@@ -20,7 +20,8 @@ HELP = (("Left drag", "rotate camera (shift: horizontal)"),
         ("F2", "info"))
 MANAGED_HELP = (("Space", "pause / run"),
                 ("Backspace", "reset"),
-                ("Right arrow", "step (paused)"),
+                ("Right arrow", "step (paused; forward in history)"),
+                ("Left arrow", "step back in history"),
                 ("Ctrl+L", "reload model"))
 
 
@@ -63,11 +64,11 @@ class Meter:
         return max(0.0, span[1] / span[0]) if span else 0.0
 
 
-def info_text(sim_time, meter, paused=None):
-    """The two columns of the info block."""
+def info_text(sim_time, meter, paused=None, scrub=0):
+    """The two columns of the info block; `scrub` < 0: that many states back in history."""
     names, values = ["Time", "FPS", "Sim/real"], [f"{sim_time:.3f}", f"{meter.fps:.0f}",
                                                  f"{meter.realtime:.2f}"]
     if paused is not None:
         names.append("State")
-        values.append("paused" if paused else "running")
+        values.append(("paused" if paused else "running") + (f" ({scrub})" if scrub else ""))
     return "\n".join(names), "\n".join(values)

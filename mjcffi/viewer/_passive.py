@@ -15,6 +15,11 @@ writes the caller's only inside `sync()`, under the viewer's lock:
 
 The window, its OpenGL context and all drawing live on the viewer's thread;
 `close()` and `is_running()` only set and read an event, safe without the lock.
+
+As the official handle, it lays the caller's figures, texts and images over the
+scene (`set_figures`, `set_texts`, `set_images` and their `clear_*`, see
+`_user_overlays`).  Beyond the official, `history` keeps the state at launch and
+at each sync, the last `history.capacity` of them (see `_history`).
 """
 
 import atexit
@@ -33,6 +38,8 @@ from .._support.library import ffi
 from ..data import MjData
 from ..model import MjModel
 from ..structs import MjvScene
+from . import _user_overlays
+from ._history import History
 from ._viewer import MAX_GEOM, Viewer
 from ._window import report
 
@@ -55,6 +62,8 @@ class Handle:
         self._user_scn = MjvScene(model, MAX_GEOM)
         self._flags_synced = np.array(self._user_scn.flags, copy=True)
         self._perturbed = 0              # body whose xfrc_applied row the viewer set last
+        self._history = History(model)
+        self._history.record(model, data)        # the caller's: the viewer's thread reads its copy
 
     # ------------------------------------------------------------ the official names
 
@@ -83,6 +92,20 @@ class Handle:
     @property
     def d(self):
         return self._data
+
+    @property
+    def viewport(self):
+        """The 3D view's MjrRect in the window (the window less the panels shown)."""
+        with self._viewer.lock:
+            return self._viewer.viewport()
+
+    @property
+    def history(self):
+        """mjcffi's own: the states at launch and at each sync(), the newest last (a
+        `History`: len(), [i], states(), times(); at most `history.capacity`, set by
+        MAX_STATES and MAX_BYTES in mjcffi.viewer._history).  Read it on the thread
+        that calls sync()."""
+        return self._history
 
     def is_running(self):
         return self._viewer.running and self._thread.is_alive()
@@ -123,6 +146,7 @@ class Handle:
             self._sync_scene()
             if viewer.panels is not None:
                 viewer.panels.sync_from(m, d, viewer.opt)
+            self._history.record(viewer.model, viewer.data)
 
     def _apply_perturbation(self, m, d):
         pert = self._viewer.pert
@@ -143,6 +167,52 @@ class Handle:
         count = min(int(user.ngeom), MAX_GEOM)
         ffi.memmove(viewer._extra, user._ptr.geoms, count * _GEOM_SIZE)
         viewer.extra_count = count
+
+    # ------------------------------------------------------------ overlays
+
+    def set_figures(self, viewports_figures):
+        """Draw figures over the scene, each in its viewport, every frame until
+        cleared or set again.
+
+        viewports_figures: a tuple (viewport: MjrRect, figure: MjvFigure), or a list
+        of them.  The figures are copied now: change one, then set it again to show
+        the change.  TypeError or ValueError (naming the entry) for a bad entry.
+        """
+        self._viewer.user_overlays.figures = _user_overlays.check_figures(viewports_figures)
+
+    def clear_figures(self):
+        """Stop drawing the figures of set_figures() (from the next frame)."""
+        self._viewer.user_overlays.figures = ()
+
+    def set_texts(self, texts):
+        """Draw text over the scene every frame until cleared or set again.
+
+        texts: a tuple (font, gridpos, text1, text2), or a list of them: font an
+        mjtFont (None: mjtFontScale.mjFONTSCALE_150, the official default, drawn as
+        the normal font), gridpos an mjtGridPos in the 3D view (None: top left),
+        text1 and text2 the left and right columns (None: empty).  The texts must be
+        ASCII, each line shorter than mjMAXOVERLAY (ValueError otherwise).
+        """
+        self._viewer.user_overlays.texts = _user_overlays.check_texts(texts)
+
+    def clear_texts(self):
+        """Stop drawing the texts of set_texts() (from the next frame)."""
+        self._viewer.user_overlays.texts = ()
+
+    def set_images(self, viewports_images):
+        """Draw images over the scene, each filling its viewport, every frame until
+        cleared or set again.
+
+        viewports_images: a tuple (viewport: MjrRect, image), or a list of them; the
+        image an array of shape (viewport.height, viewport.width, 3), uint8 RGB, its
+        first row at the top.  The images are copied now.  ValueError for a shape or
+        dtype that does not fit, TypeError for an entry of the wrong kind.
+        """
+        self._viewer.user_overlays.images = _user_overlays.check_images(viewports_images)
+
+    def clear_images(self):
+        """Stop drawing the images of set_images() (from the next frame)."""
+        self._viewer.user_overlays.images = ()
 
     # ------------------------------------------------------------ assets
 

@@ -10,7 +10,8 @@ between frames and returns its result.
 It draws `model`/`data` as they are: the passive handle gives it private copies
 and refreshes them at sync(), the managed loop gives it the simulated ones.
 Extra geoms (the passive handle's user_scn) are appended to each scene after
-mjv_updateScene.
+mjv_updateScene; the handle's figures, texts and images (`user_overlays`) are
+drawn last, over everything else.
 """
 
 import queue
@@ -26,6 +27,7 @@ from ..functions._overrides import mjr_readPixels
 from .._support.library import ffi
 from ..structs import MjrContext, MjrRect, MjvCamera, MjvOption, MjvPerturb, MjvScene
 from . import _interaction, _overlay, _panels
+from ._user_overlays import UserOverlays
 from ._input import WindowState
 from ._window import Window, report, glfw
 
@@ -67,6 +69,8 @@ class Viewer:
         self.scene = self.con = self.window = self.panels = None
         self.input = WindowState()
         self.meter = _overlay.Meter()
+        self.user_overlays = UserOverlays()   # the passive handle's set_figures/texts/images
+        self.scrub = 0                   # managed loop: 0, or -k while showing k states back
         self._extra = ffi.new("mjvGeom[]", MAX_GEOM)    # user geoms, copied at sync
         self.extra_count = 0
         self._calls = queue.Queue()
@@ -201,10 +205,12 @@ class Viewer:
         if self.panels is not None and any(self.show_ui):
             self.panels.render(self.con)
         self._draw_overlays(viewport)
+        self.user_overlays.draw(viewport, self.con)
 
     def _draw_overlays(self, viewport):
         if self.show_info:
-            names, values = _overlay.info_text(self.data.time, self.meter, self.paused)
+            names, values = _overlay.info_text(self.data.time, self.meter, self.paused,
+                                               self.scrub)
             mjr_overlay(mjtFont.mjFONT_NORMAL, mjtGridPos.mjGRID_BOTTOMLEFT, viewport,
                         names, values, self.con)
         if self.show_help:
