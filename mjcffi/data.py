@@ -13,6 +13,8 @@ from ._support import bind as _bind
 from ._support.callbacks import _register_class, _track
 from ._support.named import MjDataNames, NamedAccess
 from ._support import official_pickle as _official_pickle
+from ._support import official_objects as _official_objects
+from ._support.official import is_official
 from .model import MjModel
 from .structs import mjdata
 
@@ -42,6 +44,60 @@ class MjData(NamedAccess, MjDataNames, mjdata.MjData):
             raise MemoryError("mj_makeData could not allocate the mjData")
         self._init_root(ffi.gc(root, lib.mj_deleteData), _model=model)
         _track(self)            # so that callbacks receive this very object
+
+    @classmethod
+    def from_official(cls, d, model=None) -> "MjData":
+        """A zero-copy mjcffi view of `d`, an MjData of the official bindings
+        (`import mujoco`) in this process.
+
+        The view and `d` share the C mjData: a write through either (`qpos`, a step)
+        is seen by the other.  The view holds `d` alive, and never frees it.
+        `model` is the view's `.model`: by default `MjModel.from_official(d.model)`;
+        or an official MjModel (wrapped so); or an mjcffi MjModel, such as a
+        `from_official` view of `d.model`.  It must have the sizes of the model `d`
+        was made for (ValueError).  Both bindings must run on the one loaded
+        libmujoco (ValueError); anything but an official MjData is a TypeError.
+        Pickling the view gives a plain mjcffi MjData (and MjModel) of the same
+        contents.  See also `to_official`.
+        """
+        root = _official_objects.borrow(d, "mjData", "d")
+        made_for = d.model            # the official MjModel that d was made for
+        if model is None:
+            model = MjModel.from_official(made_for)
+        elif is_official(model):
+            _official_objects.borrow(model, "mjModel", "model")    # errors name `model`
+            model = MjModel.from_official(model)
+        elif not isinstance(model, MjModel):
+            raise TypeError(f"model must be an mjcffi.MjModel or an official "
+                            f"mujoco.MjModel, not {type(model).__name__}")
+        made_for_ptr = _official_objects.model_pointer(made_for, "d.model")
+        _official_objects.check_sizes(model._ptr, made_for_ptr, "d", "model")
+        self = cls.__new__(cls)
+        self._init_root(root, _model=model)
+        _track(self)
+        return self
+
+    def to_official(self, model=None):
+        """A new MjData of the official bindings with this data's contents (a copy,
+        by mj_copyData, also when this data is a `from_official` view).
+
+        `model` is the official MjModel the copy is made for; it must have the sizes
+        of this data's model (ValueError).  By default: the official MjModel that
+        `self.model` views when it came from `MjModel.from_official` (so a view of
+        an official data copies back onto the very official model), else a new one,
+        `self.model.to_official()`.  `mujoco` is imported here, on first use (see
+        MjModel.to_official).
+        """
+        mujoco = _official_objects.official_package()
+        if model is None:
+            model = self._model.__dict__.get("_official")
+            if model is None:
+                model = self._model.to_official()
+        pointer = _official_objects.model_pointer(model, "model", wrapping=False)
+        _official_objects.check_sizes(pointer, self._model._ptr, "this data", "model")
+        copy = mujoco.MjData(model)
+        _official_objects.copy_data(model, copy, self._ptr)
+        return copy
 
     @property
     def model(self):

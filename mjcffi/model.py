@@ -7,6 +7,7 @@ pickled.
 
 from ._support import loading as _loading
 from ._support import official_pickle as _official_pickle
+from ._support import official_objects as _official_objects
 from . import vfs as _vfs
 from ._support.library import ffi, lib
 from ._support.views import guarded_result
@@ -64,6 +65,38 @@ class MjModel(NamedAccess, MjModelNames, mjmodel.MjModel):
         `assets` (a dict of file name -> bytes) or of `vfs` (an MjVfs)."""
         with _vfs.using(vfs, assets) as pointer:
             return cls._from_root(_loading.load_binary_path(filename, assets, pointer))
+
+    @classmethod
+    def from_official(cls, m) -> "MjModel":
+        """A zero-copy mjcffi view of `m`, an MjModel of the official bindings
+        (`import mujoco`) in this process.
+
+        The view and `m` share the C mjModel: a write through either is seen by the
+        other.  The view holds `m` (and so its memory) alive, and never frees it.
+        Both bindings must run on the one loaded libmujoco (the official package and
+        mujoco-core installed together do); otherwise ValueError.  Anything but an
+        official MjModel is a TypeError.  Pickling the view gives a plain mjcffi
+        MjModel of the same contents.  See also `to_official`.
+        """
+        root = _official_objects.borrow(m, "mjModel", "m")
+        self = cls._from_root(root)
+        self.__dict__["_official"] = m      # MjData.to_official's default model
+        return self
+
+    def to_official(self):
+        """A new MjModel of the official bindings with this model's contents: a copy
+        (made from MJB bytes, then mj_copyModel, so that the fields MJB leaves out
+        such as `signature` are copied too), also when this model is a
+        `from_official` view.
+
+        `mujoco` is imported here, on first use; it must run on mjcffi's libmujoco
+        (ValueError), and be the official package, not mjcffi under its name
+        (ImportError)."""
+        mujoco = _official_objects.official_package()
+        name = "model.mjb"
+        copy = mujoco.MjModel.from_binary_path(name, {name: self.to_bytes()})
+        _official_objects.copy_model(copy, self._ptr)
+        return copy
 
     def to_bytes(self):
         """This model as MJB bytes (mj_saveModel), as `from_bytes` reads them."""
