@@ -1583,6 +1583,12 @@ def generate(decls, notes, described, header_texts):
                  for name in decls.functions if name in OVERRIDES}
     files = {f"{PACKAGE}/__init__.py": _package_init(groups, list(decls.functions), hand_docs),
              f"{PACKAGE}/_common.py": outputs.HEADER_PY + _COMMON + _enum_table(decls, enums)}
+    # for type checkers, which do not run __getattr__: every section's names
+    files[f"{PACKAGE}/__init__.pyi"] = outputs.HEADER_PY + "".join(
+        f"from .{section} import *\n" for section in sorted(groups)) + \
+        "from .._support.arena import _realloc_con_efc as _realloc_con_efc\n" \
+        "from .._support.arena import _realloc_island as _realloc_island\n\n" \
+        "NAMES: tuple[str, ...]\nHAND_WRITTEN_DOCS: dict[str, str]\n"
     for section, (blocks, _) in sorted(groups.items()):
         files[f"{PACKAGE}/{section}.py"] = (
             outputs.HEADER_PY + f'"""MuJoCo\'s functions of {_SECTION_TITLES[section]} (see '
