@@ -10,9 +10,22 @@ cffi_modules has no pyproject.toml spelling, and two wheel properties need code:
   passes that path on to every extension; in a wheel it names a folder of the
   build machine, so it is dropped.  The module's own rpath into the mujoco-core
   wheel ($ORIGIN/../mujoco, from mjcffi/_c/build.py) is relative and stays.
+
+One compile per checkout: every `pip install -e '.[extra]'` runs this build again, in a
+fresh build folder.  The module in the source tree (mjcffi/_mjcffi.abi3.so) has a stamp
+beside it (`.inputs`): a digest of everything its compile read (the C that cffi
+generates, the C files and headers of mjcffi/_c/, MuJoCo's headers and library, the
+compiler's command lines, this Python's version) and one of the module itself.  When a
+new build's digest and the module's match the stamp, the module is copied instead of
+compiled again; `build_ext --force` compiles anyway.
 """
 
+import filecmp
+import hashlib
 import os
+import pathlib
+import shutil
+import sys
 import sysconfig
 
 from setuptools import setup
@@ -31,8 +44,52 @@ def is_absolute_rpath(argument):
     return any(os.path.isabs(p) for p in paths)
 
 
+ROOT = pathlib.Path(__file__).resolve().parent
+
+
+def inputs_digest(ext, compiler):
+    """sha256 of what compiling and linking `ext` reads: file contents (never their
+    paths, which name pip's temporary build folder), flags, and this Python."""
+    digest = hashlib.sha256()
+
+    def add(label, data):
+        data = data if isinstance(data, bytes) else repr(data).encode()
+        digest.update(f"{label} {len(data)}\n".encode() + data)
+
+    for source in ext.sources:            # cffi's generated C first, then mjcffi/_c/*.c
+        add("source " + os.path.basename(source), pathlib.Path(source).read_bytes())
+    for folder in ext.include_dirs:       # mjcffi/_c/, its generated/, MuJoCo's include/
+        for header in sorted(pathlib.Path(folder).rglob("*.h")):
+            add("header " + header.relative_to(folder).as_posix(), header.read_bytes())
+    for folder in ext.library_dirs:       # libmujoco.so.<version> of mujoco-core
+        for library in ext.libraries:
+            path = pathlib.Path(folder) / library.lstrip(":")
+            if library.startswith(":") and path.is_file():
+                add("library " + path.name, path.read_bytes())
+    for name in ("compiler_so", "linker_so"):
+        add(name, getattr(compiler, name, None))
+    add("ext", (ext.name, ext.define_macros, ext.undef_macros, ext.libraries,
+                ext.extra_compile_args, ext.extra_link_args, getattr(ext, "py_limited_api", None)))
+    add("python", (sys.version, sysconfig.get_config_var("EXT_SUFFIX")))
+    return digest.hexdigest()
+
+
+def file_digest(path):
+    """sha256 of a file: the stamp names the very module it was written for."""
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
 class BuildExtension(build_ext):
-    """build_ext whose link line carries no absolute rpath from Python's own LDSHARED."""
+    """build_ext whose link line carries no absolute rpath from Python's own LDSHARED,
+    and which copies the source tree's module instead of compiling the same inputs again."""
+
+    def run(self):
+        self._compiled = []
+        super().run()
+        # an editable install has copied what it compiled into the tree: stamp that copy
+        for digest, built, tree in self._compiled:
+            if tree.is_file() and filecmp.cmp(built, tree, shallow=False):
+                tree.with_name(tree.name + ".inputs").write_text(f"{digest} {file_digest(tree)}\n")
 
     def build_extensions(self):
         for name in ("linker_so", "linker_so_cxx"):
@@ -40,6 +97,22 @@ class BuildExtension(build_ext):
             if command:
                 setattr(self.compiler, name, [a for a in command if not is_absolute_rpath(a)])
         super().build_extensions()
+
+    def build_extension(self, ext):
+        digest = inputs_digest(ext, self.compiler)
+        built = pathlib.Path(self.get_ext_fullpath(ext.name)).resolve()
+        tree = ROOT / self.get_ext_filename(ext.name)
+        stamp = tree.with_name(tree.name + ".inputs")
+        if (not self.force and tree.is_file() and stamp.is_file()
+                and stamp.read_text().split() == [digest, file_digest(tree)]):
+            if tree.resolve() != built:
+                built.parent.mkdir(parents=True, exist_ok=True)
+                shutil.copy2(tree, built)
+            print(f"mjcffi: {tree.relative_to(ROOT)} was compiled from these same inputs "
+                  f"(digest {digest[:12]}); reusing it instead of compiling again")
+            return
+        super().build_extension(ext)
+        self._compiled.append((digest, built, tree))
 
 
 def wheel_options():

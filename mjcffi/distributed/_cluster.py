@@ -133,14 +133,14 @@ class RolloutCluster:
         The arguments are those of `mjcffi.rollout.rollout` without `data` (workers
         own their MjData); the local call shape `rollout(model, data, initial_state,
         control, ...)` is accepted too and its `data` ignored, so this object can stand in
-        for a local `Rollout`.
+        for a local `Rollout`.  `control_spec`, `skip_checks`, `nstep`, `initial_warmstart`,
+        `state`, `sensordata` and `chunk_size` are as in `mjcffi.rollout.rollout`
+        (`chunk_size` within a worker).
 
         Args:
           model: an MjModel, or a sequence of nbatch MjModels of the same sizes.
           initial_state: ([nbatch or 1] x nstate) mjSTATE_FULLPHYSICS states.
           control: ([nbatch or 1] x [nstep or 1] x ncontrol); optional.
-          control_spec, skip_checks, nstep, initial_warmstart, state, sensordata,
-            chunk_size: as in `mjcffi.rollout.rollout` (chunk_size within a worker).
           shard_size: rollouts per shard (default: nbatch shared evenly among workers).
           progress: show a tqdm bar of shards done (when tqdm is installed).
 

@@ -77,7 +77,8 @@ def least_squares(
       ValueError: on bad arguments, a residual or Jacobian of the wrong shape
         or dtype, a nonfinite residual at x0, or a failed derivative check.
       TypeError: if the residual returns something other than a NumPy array.
-      Whatever `residual`, `jacobian` or `norm` raise passes through unchanged.
+
+    Whatever `residual`, `jacobian` or `norm` raise passes through unchanged.
     """
     verbosity = Verbosity(verbose).value
     eps, mu_min, mu_max, mu_factor, xtol, gtol = (_real(name, value) for name, value in (
