@@ -59,6 +59,10 @@ _EXTENTS = {
 _DATA_WRITABLE = {"time", "pstack"}
 _DATA_WRITABLE_PREFIXES = ("maxuse_", "flg_")
 
+# Counts the official MjData lets be written and MJX's get_data_into writes: written
+# within what keeps memory safe (mjcffi/_support/official_class.py, efc_count)
+_EFC_COUNTS = {("mjData", name) for name in ("ne", "nf", "nl", "ncon", "nefc")}
+
 # Bounds on scalars that nothing in the headers ties to their limit: the value
 # must stay within 0..<field of the same struct>.
 _BOUNDS = {"mjData": {"pstack": "narena"}}
@@ -305,6 +309,8 @@ def _field_line(ctx, struct, f, refs):
     if f.kind == "scalar" and f.elem in ctx.enums and _SPEC_STRUCT.match(struct) \
             and struct != "mjsElement":
         return f"{attr} = enum_field({f.name!r}, {f.elem!r}, {doc})"
+    if (struct, f.name) in _EFC_COUNTS:
+        return f"{attr}: int = efc_count({f.name!r}, {doc})"
     if f.kind == "scalar":
         options = _scalar_options(ctx, struct, f)
         return f"{attr}: {_pytype(f.elem)} = scalar({f.name!r}, {doc}{options})"
@@ -666,7 +672,13 @@ def _class(ctx, struct, refs):
     lines += [""] + (["    # the nested structs under their official names"] + aliases + [""]
                      if aliases else [])
     lines += _constructor(ctx, struct)
+    lines += _official_class(ctx, struct)
     hot = _EAGER.get(struct, ())
+    if hot:
+        # slots: descriptors in the class dict, as the official's fields are, that
+        # read as fast as the plain instance attributes they replace
+        names = textwrap.wrap(", ".join(repr(name) for name in hot), 80)
+        lines += ["    __slots__ = (" + "\n                 ".join(names) + ")", ""]
     eager = []
     for f in infos:
         line = _field_line(ctx, struct, f, refs)
@@ -679,6 +691,35 @@ def _class(ctx, struct, refs):
     lines += _element_methods(ctx, struct)
     if eager:
         lines += ["", "    _eager = eager("] + [f"        {e}," for e in eager] + ["    )"]
+    return lines
+
+
+def _official_class(ctx, struct):
+    """What the official MjModel and MjData classes show beyond the fields
+    (mjcffi/_support/official_class.py): their fields in the hand-written subclass's
+    own class dict, and MjModel._sizes."""
+    if struct not in _EXTENDED:
+        return []
+    pycls = class_name(struct)
+    lines = ["    def __init_subclass__(cls, **kwargs):",
+             f'        """The fields in the subclass\'s own class dict too, as in the official '
+             f'{pycls}\'s."""',
+             "        super().__init_subclass__(**kwargs)",
+             "        hoist(cls)",
+             ""]
+    if struct == "mjModel":
+        count = 0
+        for f in ctx.described[struct]:
+            if f.kind != "scalar" or f.ctype != "mjtSize":
+                break
+            count += 1
+        lines += ["    @property",
+                  "    def _sizes(self):",
+                  f'        """The {count} sizes at the head of mjModel (nq ... nbuffer) as a '
+                  f'new read-only',
+                  '        int64 array, as the official MjModel._sizes; MJX reads them."""',
+                  f"        return sizes(self._ptr, {count})",
+                  ""]
     return lines
 
 
@@ -860,7 +901,8 @@ def _imports(body):
                           ("element_vectors", ("vector_field",)),
                           ("elements", ("register",)),
                           ("mjr", ("context_repr", "make_context", "new_context",
-                                   "release_context"))):
+                                   "release_context")),
+                          ("official_class", ("efc_count", "hoist", "sizes"))):
         used = [n for n in names if re.search(rf"\b{n}\(", text)]
         if used:
             line = f"from .._support.{module} import {', '.join(used)}"

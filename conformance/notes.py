@@ -68,9 +68,6 @@ NOTES = (
          "The tests load the official package's own `egl/__init__.py` by file path, with a fake "
          "PyOpenGL, to test its device selection; mjcffi's EGL binding (issue 12) is cffi, "
          "not PyOpenGL."),
-    Note(("msh2obj_test.py::*",), GAP,
-         "mjcffi has no `msh2obj`, the official package's converter of Gmsh meshes to OBJ "
-         "files; no issue plans it yet."),
 )
 
 

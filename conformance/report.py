@@ -13,7 +13,7 @@ import sys
 
 from mjcffi._support.machine import environment
 
-from . import _mujoco_py_report, notes
+from . import _mujoco_py_report, mjx, notes
 from .runner import official_files, run_file
 
 CONFORMANCE = pathlib.Path(__file__).resolve().parent.parent / "CONFORMANCE.md"
@@ -29,6 +29,8 @@ def non_gl_files():
 
 
 def _file_name(arg):
+    """'bindings' -> 'bindings_test.py'; a subpackage's file is named in full
+    ('sysid/tests/test_signal.py')."""
     return arg if arg.endswith(".py") else f"{arg}_test.py"
 
 
@@ -64,8 +66,10 @@ def main(argv=None):
     text = render(ours, theirs)
     if args.write:
         # The mujoco-py section is written by `python -m conformance mujoco_py --write`,
-        # the strictness audit by hand: both are kept as they are.
+        # the MJX one by `python -m conformance mjx --write`, the strictness audit by
+        # hand: they are kept as they are.
         text = _mujoco_py_report.keep_section(CONFORMANCE, text)
+        text = _mujoco_py_report.keep_section(CONFORMANCE, text, mjx.TITLE)
         text = _mujoco_py_report.keep_section(CONFORMANCE, text, STRICTNESS)
         CONFORMANCE.write_text(text)
         print(f"wrote {CONFORMANCE}", file=sys.stderr)
@@ -99,13 +103,18 @@ def _percent(passed, total, skipped):
 def render(ours, theirs):
     lines = ["# Conformance with the official bindings' tests", "",
              "Written by `python -m conformance --write`. Each `*_test.py` file that ships in the "
-             "installed `mujoco` package (the mujoco-core wheel) runs against mjcffi with "
+             "installed `mujoco` package (the mujoco-core wheel), and the test files of its "
+             "pure-Python subpackages (`sysid/tests/`, `usd/`, `introspect/`, which mjcffi runs "
+             "from the official source: mjcffi.sysid, ...), runs against mjcffi with "
              "`import mujoco` rewritten to `import mjcffi as mujoco`, in a temporary folder; the "
              "files are not copied into this repository. The same files also run unmodified "
              "against the official bindings on the same machine. `tests/test_conformance.py` "
              "fails if a file that needs no OpenGL passes fewer tests than this table says. The "
              "rendering files need an OpenGL driver (Debian's Mesa); where it is missing, most "
-             "of their tests skip or fail under both bindings.", ""]
+             "of their tests skip or fail under both bindings. The sysid files need mjcffi's "
+             "`sysid` extra, `usd/exporter_test.py` its `usd` extra (usd-core); without them "
+             "their tests skip, under both bindings. MJX, which needs jax, is checked by "
+             "`python -m conformance mjx` (its section below).", ""]
     lines += environment(("mjcffi", "mujoco-core", "numpy", "cffi", "pytest", "absl-py")) + [""]
     lines += ["| file | tests | mjcffi passed | failed | skipped | mjcffi pass rate "
               "| official passed |",
@@ -174,13 +183,16 @@ def _first_line(outcome):
 
 # ------------------------------------------------------- committed figures
 
-_ROW = re.compile(r"^\| `(?P<name>\w+_test\.py)` \| (?P<total>\d+) \| (?P<passed>\d+) \|")
+_ROW = re.compile(r"^\| `(?P<name>[\w/]+\.py)` \| (?P<total>\d+) \| (?P<passed>\d+) \|")
 
 
 def committed_passes(path=CONFORMANCE):
-    """file -> the mjcffi pass count that the committed CONFORMANCE.md records."""
+    """file -> the mjcffi pass count that the committed CONFORMANCE.md records (its
+    first section: the official files)."""
     figures = {}
-    for line in pathlib.Path(path).read_text().splitlines():
+    for number, line in enumerate(pathlib.Path(path).read_text().splitlines()):
+        if number and line.startswith("# "):
+            break                       # the next section (mujoco-py's, MJX's, ...)
         match = _ROW.match(line)
         if match:
             figures[match["name"]] = int(match["passed"])

@@ -23,8 +23,16 @@ import time
 _REWRITES = (
     (re.compile(r"\bfrom mujoco(\.[\w.]+)? import\b"), r"from mjcffi\1 import"),
     (re.compile(r"\bimport mujoco\b(?![.\w])"), "import mjcffi as mujoco"),
+    (re.compile(r"\bimport mujoco\.([\w.]+) as\b"), r"import mjcffi.\1 as"),
     (re.compile(r"""(sys\.modules\[['"])mujoco\."""), r"\1mjcffi."),
 )
+# The official package's own data (testdata/...): the tests find it beside the package
+# they import, which under the swap is mjcffi's folder.
+_RESOURCE = re.compile(r"""\bepath\.resource_path\(\s*(['"])mujoco\1\s*\)""")
+
+# The test files of the official pure-Python subpackages (mjcffi.sysid, .usd,
+# .introspect: mjcffi/_support/official_source.py), beside the top-level *_test.py.
+SUBPACKAGE_TESTS = ("sysid/tests/test_*.py", "usd/exporter_test.py", "introspect/*_test.py")
 
 # Logs each test's start and reports to $CONFORMANCE_LOG, one JSON object a line.
 _LOGGER = '''
@@ -45,6 +53,17 @@ def _message(report):
     if crash is not None:
         return crash.message
     return str(longrepr).strip().splitlines()[-1] if longrepr else ""
+
+
+def pytest_configure(config):
+    # absltest's create_tempdir reads --test_tmpdir, which only absltest.main()
+    # parses: under pytest, take the flags' defaults (a temporary folder)
+    try:
+        from absl import flags
+    except ImportError:
+        return
+    if not flags.FLAGS.is_parsed():
+        flags.FLAGS.mark_as_parsed()
 
 
 def pytest_runtest_logstart(nodeid, location):
@@ -106,15 +125,28 @@ def official_dir():
 
 
 def official_files():
-    """Names of the official test files, e.g. 'bindings_test.py'."""
-    return sorted(p.name for p in official_dir().glob("*_test.py"))
+    """Names of the official test files, relative to the package: 'bindings_test.py',
+    'sysid/tests/test_signal.py', ..."""
+    root = official_dir()
+    top = sorted(p.name for p in root.glob("*_test.py"))
+    return top + sorted(p.relative_to(root).as_posix() for pattern in SUBPACKAGE_TESTS
+                        for p in root.glob(pattern))
 
 
-def swap_imports(text):
-    """The test file's text with every use of `mujoco` turned into `mjcffi as mujoco`."""
+def swap_imports(text, package=""):
+    """The test file's text with every use of `mujoco` turned into `mjcffi as mujoco`.
+
+    `package` is the file's folder in the official package ('sysid/tests'): its
+    relative imports (`from . import enums`) become absolute ones of that package,
+    swapped too, since the copy runs outside it."""
+    if package:
+        dotted = "mujoco." + package.replace("/", ".")
+        text = re.sub(r"^(\s*)from \.(\w*) import\b",
+                      lambda m: f"{m[1]}from {dotted}{'.' + m[2] if m[2] else ''} import",
+                      text, flags=re.M)
     for pattern, replacement in _REWRITES:
         text = pattern.sub(replacement, text)
-    return text
+    return _RESOURCE.sub(lambda m: f"epath.Path({str(official_dir())!r})", text)
 
 
 def run_file(name, target="mjcffi", timeout=900, keyword=None):
@@ -124,11 +156,16 @@ def run_file(name, target="mjcffi", timeout=900, keyword=None):
     official bindings it runs where it was installed, as upstream runs it.
     """
     original = official_dir() / name
+    package = pathlib.PurePosixPath(name).parent.as_posix().strip(".")
     with tempfile.TemporaryDirectory(prefix="conformance-") as folder:
         folder = pathlib.Path(folder)
         if target == "mjcffi":
-            test_file = folder / name
-            test_file.write_text(swap_imports(original.read_text()))
+            # a subpackage's file runs flat in the folder, with its conftest.py
+            test_file = folder / original.name
+            test_file.write_text(swap_imports(original.read_text(), package))
+            conftest = original.with_name("conftest.py")
+            if package and conftest.exists():
+                (folder / "conftest.py").write_text(swap_imports(conftest.read_text(), package))
         else:
             test_file = original
         (folder / "pytest.ini").write_text("[pytest]\n")

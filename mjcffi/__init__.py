@@ -15,6 +15,8 @@ import importlib.util
 import sys
 
 from ._support import aliases as _aliases
+from ._support import official_source as _official_source
+from . import _private_paths
 from ._generated.constants import *  # noqa: F401,F403
 from ._generated.enums import *  # noqa: F401,F403
 from ._support.errors import ArgumentError, FatalError, IdError  # noqa: F401
@@ -79,6 +81,11 @@ _LAZY = {
 # `mujoco.minimize`, the mujoco-py interface, and mjcffi.tune (callable as a function)
 _SUBMODULES = ("rollout", "batch", "minimize", "sim", "tune")
 
+# the official bindings' private modules that code names (`mujoco._enums.mjtGeom`,
+# `mujoco._structs._MjContactList`), attributes as `_functions` is: files of their own,
+# and the modules mjcffi/_private_paths.py makes
+_PRIVATE_MODULES = ("_enums", "_constants", "_structs", *_private_paths.MODULES)
+
 # the official GL backends' modules, attributes once imported; absent (AttributeError)
 # where the backend cannot load, as official.  dir() lists glfw where it is installed,
 # as the official's does with MUJOCO_GL unset (its gl_context imports mujoco.glfw).
@@ -89,7 +96,7 @@ def __getattr__(name):
     if name == "__all__":
         value = globals()["__all__"] = _public_names()
         return value
-    if name in _SUBMODULES:
+    if name in _SUBMODULES or name in _PRIVATE_MODULES:
         value = globals()[name] = importlib.import_module(f".{name}", __name__)
         return value
     if name in _GL_SUBMODULES:
@@ -133,6 +140,10 @@ def _public_names():
 
 # `import mujoco.rollout` after `sys.modules['mujoco'] = mjcffi` gives mjcffi.rollout
 _aliases.install()
+# mjcffi.sysid, .usd, .msh2obj, .introspect and .mjx: the official package's Python
+# source, run on mjcffi (mjcffi/_support/official_source.py)
+_official_source.install()
+_private_paths.install()
 
 
 def __dir__():

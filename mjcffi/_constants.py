@@ -1,4 +1,25 @@
 """The official `mujoco._constants` path: MuJoCo's #define constants (generated in
-mjcffi/_generated/)."""
+mjcffi/_generated/), and the official module's other names: MJTNUM_BYTES and the
+string tables (mjDISABLESTRING, ...), made on first use as mjcffi's own are."""
+
+import importlib
 
 from ._generated.constants import *  # noqa: F401,F403
+
+# name -> the module that makes it (as mjcffi.<name> does)
+_LAZY = {"MJTNUM_BYTES": "._support.views",
+         **{name: "._support.stringtables" for name in (
+             "mjDISABLESTRING", "mjENABLESTRING", "mjFRAMESTRING", "mjLABELSTRING",
+             "mjRNDSTRING", "mjTIMERSTRING", "mjVISSTRING")}}
+
+
+def __getattr__(name):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = globals()[name] = getattr(importlib.import_module(module, __package__), name)
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))

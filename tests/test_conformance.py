@@ -20,6 +20,20 @@ def test_the_import_swap_reaches_every_form():
         "import mujoco_menagerie\n")
 
 
+def test_a_subpackage_file_is_swapped_with_its_package_and_the_official_data():
+    text = ("from . import enums\nfrom .ast_nodes import ValueType\n"
+            "import mujoco.rollout as rollout\n"
+            "path = epath.resource_path('mujoco') / 'testdata'\n")
+    official = str(runner.official_dir())
+    assert runner.swap_imports(text, "introspect") == (
+        "from mjcffi.introspect import enums\nfrom mjcffi.introspect.ast_nodes import ValueType\n"
+        "import mjcffi.rollout as rollout\n"
+        f"path = epath.Path({official!r}) / 'testdata'\n")
+    names = runner.official_files()
+    assert "usd/exporter_test.py" in names and "sysid/tests/test_signal.py" in names
+    assert not any(name.endswith("conftest.py") for name in names)
+
+
 def test_a_crash_is_reported_against_the_test_that_was_running():
     records = [{"event": "start", "nodeid": "f.py::T::test_a"},
                {"event": "report", "nodeid": "f.py::T::test_a", "when": "call",

@@ -7,8 +7,10 @@ Every view keeps the memory it shows alive by referencing the *root* cdata
 wrapper, so a view cached on a wrapper makes no cycle (see `view`).
 """
 
+import functools
 import keyword
 import operator
+import types
 from collections.abc import Sequence
 from typing import NamedTuple
 
@@ -773,13 +775,22 @@ def _same(a, b):
 
 # ------------------------------------------------------------------ the base
 
+@functools.lru_cache(maxsize=None)
+def _slot(cls, name):
+    """The slot of `cls` that holds the `_eager` field `name` (declared by the generated
+    class): written directly, since Struct.__setattr__ assigns into the view and a
+    subclass may name a property so (mujoco-py's SimData.act)."""
+    return next(vars(k)[name] for k in cls.__mro__
+                if isinstance(vars(k).get(name), types.MemberDescriptorType))
+
+
 class StructType(type):
     """The metaclass of the struct classes.
 
-    `dir(cls)` also lists the fields that exist on instances only (the
-    `_eager` ones, such as MjData.qpos), as the official classes do: wrappers
-    that build properties from `dir(mujoco.MjData)` find them.  Attribute
-    access never passes through here, so the hot path pays nothing.
+    `dir(cls)` also lists the `_eager` fields (MjData.qpos, ...: built when an
+    instance is wrapped, and kept in slots of the generated class), as the official
+    classes do: wrappers that build properties from `dir(mujoco.MjData)` find them.
+    Attribute access never passes through here, so the hot path pays nothing.
     """
 
     def __dir__(cls):
@@ -829,7 +840,7 @@ class Struct(metaclass=StructType):
         if moved:
             self._moved()
         for name, field in self._eager.items():
-            state[name] = field.build(self)
+            _slot(type(self), name).__set__(self, field.build(self))
         if self._capacities or self._allocated_views:
             self._remade()
 

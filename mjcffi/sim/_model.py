@@ -77,7 +77,7 @@ class SimData(SimDataGetters, MjData):
     @property
     def act(self):
         """actuator activation (na), or None when the model has none, as in mujoco-py"""
-        return self.__dict__["act"] if self._model._ptr.na else None
+        return super().act if self._model._ptr.na else None   # MjData's slot
 
 
 def load_model_from_path(path):

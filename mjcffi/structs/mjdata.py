@@ -5,6 +5,7 @@ from numpy import ndarray
 
 from .._support.views import (Array, Bound, DynamicArray, FixedArray, FixedRecords, Records, Struct,
                               ValueStruct, eager, pointer, scalar, struct_type)
+from .._support.official_class import efc_count, hoist
 
 __all__ = ['MjPreContact', 'MjContact', 'MjWarningStat', 'MjTimerStat', 'MjSolverStat']
 
@@ -105,6 +106,14 @@ class MjData(Struct):
     def __init__(self, *args, **kwargs):
         raise TypeError('MjData has no constructor: MuJoCo creates it')
 
+    def __init_subclass__(cls, **kwargs):
+        """The fields in the subclass's own class dict too, as in the official MjData's."""
+        super().__init_subclass__(**kwargs)
+        hoist(cls)
+
+    __slots__ = ('qpos', 'qvel', 'act', 'ctrl', 'qacc', 'qfrc_applied', 'xfrc_applied',
+                 'mocap_pos', 'mocap_quat', 'sensordata', 'xpos', 'xquat')
+
     narena: int = scalar('narena', 'size of the arena in bytes (inclusive of the stack)', readonly=True)
     nbuffer: int = scalar('nbuffer', 'size of main buffer in bytes', readonly=True)
     nplugin: int = scalar('nplugin', 'number of plugin instances', readonly=True)
@@ -123,11 +132,11 @@ class MjData(Struct):
     solver_fwdinv = FixedArray('solver_fwdinv', 'mjtNum', lambda s: (2,), 'forward-inverse comparison: qfrc, efc')
     warning = FixedRecords('warning', lambda: MjWarningStat, 7, 'warning statistics (mutable)')
     timer = FixedRecords('timer', lambda: MjTimerStat, 15, 'timer statistics')
-    ncon: int = scalar('ncon', 'number of detected contacts', readonly=True)
-    ne: int = scalar('ne', 'number of equality constraints', readonly=True)
-    nf: int = scalar('nf', 'number of friction constraints', readonly=True)
-    nl: int = scalar('nl', 'number of limit constraints', readonly=True)
-    nefc: int = scalar('nefc', 'number of constraints', readonly=True)
+    ncon: int = efc_count('ncon', 'number of detected contacts')
+    ne: int = efc_count('ne', 'number of equality constraints')
+    nf: int = efc_count('nf', 'number of friction constraints')
+    nl: int = efc_count('nl', 'number of limit constraints')
+    nefc: int = efc_count('nefc', 'number of constraints')
     nJ: int = scalar('nJ', 'number of non-zeros in constraint Jacobian', readonly=True)
     efm_active: int = scalar('efm_active', 'effective metric M+K: 0 off, 1 on, 2 on with general flex CSR', readonly=True)
     nefmK: int = scalar('nefmK', 'number of non-zeros in effective-stiffness CSR', readonly=True)

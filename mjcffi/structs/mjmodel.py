@@ -4,6 +4,7 @@
 from .._support.library import ffi, lib
 from .._support.views import (Array, FixedArray, Nested, Struct, ValueStruct, chars, pointer, scalar,
                               struct_type)
+from .._support.official_class import hoist, sizes
 
 __all__ = ['MjLROpt', 'MjCache', 'MjVFS', 'MjOption', 'MjVisual', 'MjVisualGlobal', 'MjVisualQuality', 'MjVisualHeadlight', 'MjVisualMap', 'MjVisualScale', 'MjVisualRgba', 'MjStatistic']
 
@@ -296,6 +297,17 @@ class MjModel(Struct):
 
     def __init__(self, *args, **kwargs):
         raise TypeError('MjModel has no constructor: MuJoCo creates it')
+
+    def __init_subclass__(cls, **kwargs):
+        """The fields in the subclass's own class dict too, as in the official MjModel's."""
+        super().__init_subclass__(**kwargs)
+        hoist(cls)
+
+    @property
+    def _sizes(self):
+        """The 98 sizes at the head of mjModel (nq ... nbuffer) as a new read-only
+        int64 array, as the official MjModel._sizes; MJX reads them."""
+        return sizes(self._ptr, 98)
 
     nq: int = scalar('nq', 'number of generalized coordinates = dim(qpos)', readonly=True)
     nv: int = scalar('nv', 'number of degrees of freedom = dim(qvel)', readonly=True)
