@@ -1589,11 +1589,15 @@ def generate(decls, notes, described, header_texts):
         "from .._support.arena import _realloc_con_efc as _realloc_con_efc\n" \
         "from .._support.arena import _realloc_island as _realloc_island\n\n" \
         "NAMES: tuple[str, ...]\nHAND_WRITTEN_DOCS: dict[str, str]\n"
-    for section, (blocks, _) in sorted(groups.items()):
+    for section, (blocks, defined) in sorted(groups.items()):
+        home = ("\n\n# their module is the package, as the official's are mujoco._functions's "
+                "(reprs, pickles)\n" + _wrapped("for _f in (", defined, "):", "    ")
+                + "\n    _f.__module__ = __package__\ndel _f\n")
         files[f"{PACKAGE}/{section}.py"] = (
             outputs.HEADER_PY + f'"""MuJoCo\'s functions of {_SECTION_TITLES[section]} (see '
             f'the package\'s docstring)."""\n\nfrom ._common import *  # noqa: F401,F403  '
-            f'(the names every function uses)\n\n\n' + "\n\n\n".join(blocks) + "\n")
+            f'(the names every function uses)\n\n\n' + "\n\n\n".join(blocks) + "\n"
+            + home)
     return files
 
 

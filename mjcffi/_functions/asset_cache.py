@@ -190,3 +190,13 @@ def mj_clearCache(cache):
 Clear the asset cache.
 """
     return _mj_clearCache(cache)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mj_getCacheSize, _mj_getCacheSize, _bind_mj_getCacheSize, mj_getCacheCapacity,
+        _mj_getCacheCapacity, _bind_mj_getCacheCapacity, mj_setCacheCapacity, _mj_setCacheCapacity,
+        _bind_mj_setCacheCapacity, mj_getCache, _mj_getCache, _bind_mj_getCache, mj_clearCache,
+        _mj_clearCache, _bind_mj_clearCache):
+    _f.__module__ = __package__
+del _f

@@ -236,3 +236,13 @@ Sets the vertices and normals of a mesh.
 params: output array of shape (nparams,).
 """
     return _mjs_makeMesh(mesh, builtin, params)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjs_addMesh, _mjs_addMesh, _bind_mjs_addMesh, mjs_addHField, _mjs_addHField,
+        _bind_mjs_addHField, mjs_addSkin, _mjs_addSkin, _bind_mjs_addSkin, mjs_addTexture,
+        _mjs_addTexture, _bind_mjs_addTexture, mjs_addMaterial, _mjs_addMaterial,
+        _bind_mjs_addMaterial, mjs_makeMesh, _mjs_makeMesh, _bind_mjs_makeMesh):
+    _f.__module__ = __package__
+del _f

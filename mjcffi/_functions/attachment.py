@@ -41,3 +41,9 @@ def mjs_attach(parent, child, prefix, suffix):
 Attach child to a parent; return the attached element if success or NULL otherwise.
 """
     return _mjs_attach(parent, child, prefix, suffix)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (mjs_attach, _mjs_attach, _bind_mjs_attach):
+    _f.__module__ = __package__
+del _f

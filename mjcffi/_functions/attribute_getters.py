@@ -191,3 +191,13 @@ def mjs_getPluginAttributes(plugin):
 Get plugin attributes.
 """
     return _mjs_getPluginAttributes(plugin)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjs_getName, _mjs_getName, _bind_mjs_getName, mjs_getString, _mjs_getString,
+        _bind_mjs_getString, mjs_getWrapNum, _mjs_getWrapNum, _bind_mjs_getWrapNum, mjs_getWrap,
+        _mjs_getWrap, _bind_mjs_getWrap, mjs_getPluginAttributes, _mjs_getPluginAttributes,
+        _bind_mjs_getPluginAttributes):
+    _f.__module__ = __package__
+del _f

@@ -489,3 +489,17 @@ The raw C function is mjcffi.lib.mjs_setPluginAttributes.
 """
     raise NotImplementedError(
         'mjs_setPluginAttributes: it takes a C++ std::map behind a void *')
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjs_setName, _mjs_setName, _bind_mjs_setName, mjs_setBuffer, _mjs_setBuffer,
+        _bind_mjs_setBuffer, mjs_setString, _mjs_setString, _bind_mjs_setString, mjs_setStringVec,
+        _mjs_setStringVec, _bind_mjs_setStringVec, mjs_setInStringVec, _mjs_setInStringVec,
+        _bind_mjs_setInStringVec, mjs_appendString, _mjs_appendString, _bind_mjs_appendString,
+        mjs_setInt, _mjs_setInt, _bind_mjs_setInt, mjs_appendIntVec, _mjs_appendIntVec,
+        _bind_mjs_appendIntVec, mjs_setFloat, _mjs_setFloat, _bind_mjs_setFloat,
+        mjs_appendFloatVec, _mjs_appendFloatVec, _bind_mjs_appendFloatVec, mjs_setDouble,
+        _mjs_setDouble, _bind_mjs_setDouble, mjs_setPluginAttributes):
+    _f.__module__ = __package__
+del _f

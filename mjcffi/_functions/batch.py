@@ -374,3 +374,14 @@ The raw C function is mjcffi.lib.mjb_model.
 """
     raise NotImplementedError(
         'mjb_model: the batch API hands out an opaque mjBatch and buffers it owns: use mjcffi.batch.Batch (from mjcffi import batch)')
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjb_defaultConfig, _mjb_defaultConfig, _bind_mjb_defaultConfig, mjb_makeBatch,
+        mjb_deleteBatch, mjb_nstate, mjb_state, mjb_stateComponent, mjb_warning, mjb_step,
+        mjb_forward, mjb_reset, mjb_status, mjb_error, mjb_output, mjb_expand, mjb_expanded,
+        mjb_setConst, mjb_setModels, mjb_rollout, mjb_apply, mjb_getModel, mjb_getData, mjb_nsim,
+        mjb_nthread, mjb_persistent, mjb_model):
+    _f.__module__ = __package__
+del _f

@@ -598,3 +598,18 @@ Compare forward and inverse dynamics, save results in fwdinv.
             _m.check(status)
         return
     return _mj_compareFwdInv(m, d)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mj_fwdKinematics, _mj_fwdKinematics, _bind_mj_fwdKinematics, mj_fwdPosition,
+        _mj_fwdPosition, _bind_mj_fwdPosition, mj_fwdVelocity, _mj_fwdVelocity,
+        _bind_mj_fwdVelocity, mj_fwdActuation, _mj_fwdActuation, _bind_mj_fwdActuation,
+        mj_fwdAcceleration, _mj_fwdAcceleration, _bind_mj_fwdAcceleration, mj_fwdConstraint,
+        _mj_fwdConstraint, _bind_mj_fwdConstraint, mj_Euler, _mj_Euler, _bind_mj_Euler,
+        mj_RungeKutta, _mj_RungeKutta, _bind_mj_RungeKutta, mj_implicit, _mj_implicit,
+        _bind_mj_implicit, mj_invPosition, _mj_invPosition, _bind_mj_invPosition, mj_invVelocity,
+        _mj_invVelocity, _bind_mj_invVelocity, mj_invConstraint, _mj_invConstraint,
+        _bind_mj_invConstraint, mj_compareFwdInv, _mj_compareFwdInv, _bind_mj_compareFwdInv):
+    _f.__module__ = __package__
+del _f

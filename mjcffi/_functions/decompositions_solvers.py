@@ -766,3 +766,17 @@ The raw C function is mjcffi.lib.mju_boxQPmalloc.
 """
     raise NotImplementedError(
         'mju_boxQPmalloc: it allocates raw C arrays (mjtNum **)')
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mju_cholFactor, _mju_cholFactor, _bind_mju_cholFactor, mju_cholSolve, _mju_cholSolve,
+        _bind_mju_cholSolve, mju_cholUpdate, _mju_cholUpdate, _bind_mju_cholUpdate,
+        mju_cholFactorBand, _mju_cholFactorBand, _bind_mju_cholFactorBand, mju_cholSolveBand,
+        _mju_cholSolveBand, _bind_mju_cholSolveBand, mju_band2Dense, _mju_band2Dense,
+        _bind_mju_band2Dense, mju_dense2Band, _mju_dense2Band, _bind_mju_dense2Band,
+        mju_bandMulMatVec, _mju_bandMulMatVec, _bind_mju_bandMulMatVec, mju_bandDiag,
+        _mju_bandDiag, _bind_mju_bandDiag, mju_eig3, _mju_eig3, _bind_mju_eig3, mju_boxQP,
+        _mju_boxQP, _bind_mju_boxQP, mju_boxQPmalloc):
+    _f.__module__ = __package__
+del _f

@@ -309,3 +309,12 @@ Dscale: output array of shape (3,) or None.
                 _m.check(status)
             return
     return _mjd_quatIntegrate(vel, scale, Dquat, Dvel, Dscale)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjd_transitionFD, _mjd_transitionFD, _bind_mjd_transitionFD, mjd_inverseFD, _mjd_inverseFD,
+        _bind_mjd_inverseFD, mjd_subQuat, _mjd_subQuat, _bind_mjd_subQuat, mjd_quatIntegrate,
+        _mjd_quatIntegrate, _bind_mjd_quatIntegrate):
+    _f.__module__ = __package__
+del _f

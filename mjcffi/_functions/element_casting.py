@@ -866,3 +866,23 @@ def mjs_asPlugin(element):
 Safely cast an element as mjsPlugin, or return NULL if the element is not an mjsPlugin.
 """
     return _mjs_asPlugin(element)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjs_asBody, _mjs_asBody, _bind_mjs_asBody, mjs_asGeom, _mjs_asGeom, _bind_mjs_asGeom,
+        mjs_asJoint, _mjs_asJoint, _bind_mjs_asJoint, mjs_asSite, _mjs_asSite, _bind_mjs_asSite,
+        mjs_asCamera, _mjs_asCamera, _bind_mjs_asCamera, mjs_asLight, _mjs_asLight,
+        _bind_mjs_asLight, mjs_asFrame, _mjs_asFrame, _bind_mjs_asFrame, mjs_asActuator,
+        _mjs_asActuator, _bind_mjs_asActuator, mjs_asSensor, _mjs_asSensor, _bind_mjs_asSensor,
+        mjs_asFlex, _mjs_asFlex, _bind_mjs_asFlex, mjs_asPair, _mjs_asPair, _bind_mjs_asPair,
+        mjs_asEquality, _mjs_asEquality, _bind_mjs_asEquality, mjs_asExclude, _mjs_asExclude,
+        _bind_mjs_asExclude, mjs_asTendon, _mjs_asTendon, _bind_mjs_asTendon, mjs_asNumeric,
+        _mjs_asNumeric, _bind_mjs_asNumeric, mjs_asText, _mjs_asText, _bind_mjs_asText,
+        mjs_asTuple, _mjs_asTuple, _bind_mjs_asTuple, mjs_asKey, _mjs_asKey, _bind_mjs_asKey,
+        mjs_asMesh, _mjs_asMesh, _bind_mjs_asMesh, mjs_asHField, _mjs_asHField, _bind_mjs_asHField,
+        mjs_asSkin, _mjs_asSkin, _bind_mjs_asSkin, mjs_asTexture, _mjs_asTexture,
+        _bind_mjs_asTexture, mjs_asMaterial, _mjs_asMaterial, _bind_mjs_asMaterial, mjs_asPlugin,
+        _mjs_asPlugin, _bind_mjs_asPlugin):
+    _f.__module__ = __package__
+del _f

@@ -372,3 +372,16 @@ The raw C function is mjcffi.lib.mjs_defaultPlugin.
 """
     raise NotImplementedError(
         'mjs_defaultPlugin: it is for structs that C code lays out; on an element that its spec owns (the only kind Python has) it clears the pointers the spec manages')
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjs_defaultSpec, mjs_defaultOrientation, _mjs_defaultOrientation,
+        _bind_mjs_defaultOrientation, mjs_defaultBody, mjs_defaultFrame, mjs_defaultJoint,
+        mjs_defaultGeom, mjs_defaultSite, mjs_defaultCamera, mjs_defaultLight, mjs_defaultFlex,
+        mjs_defaultMesh, mjs_defaultHField, mjs_defaultSkin, mjs_defaultTexture,
+        mjs_defaultMaterial, mjs_defaultPair, mjs_defaultEquality, mjs_defaultTendon,
+        mjs_defaultActuator, mjs_defaultSensor, mjs_defaultNumeric, mjs_defaultText,
+        mjs_defaultTuple, mjs_defaultKey, mjs_defaultPlugin):
+    _f.__module__ = __package__
+del _f

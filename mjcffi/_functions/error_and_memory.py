@@ -522,3 +522,17 @@ def mjs_getWarning(spec, index):
 Get the i-th warning message (returns nullptr if index out of bounds).
 """
     return _mjs_getWarning(spec, index)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mju_error, _mju_error, _bind_mju_error, mju_warning, _mju_warning, _bind_mju_warning,
+        mju_clearHandlers, _mju_clearHandlers, _bind_mju_clearHandlers, mju_setLogHandler,
+        mju_setLogConfig, _mju_setLogConfig, _bind_mju_setLogConfig, mju_info, _mju_info,
+        _bind_mju_info, mju_message, _mju_message, _bind_mju_message, mj_warning, _mj_warning,
+        _bind_mj_warning, mju_writeLog, _mju_writeLog, _bind_mju_writeLog, mjs_getError,
+        _mjs_getError, _bind_mjs_getError, mjs_getTimer, _mjs_getTimer, _bind_mjs_getTimer,
+        mjs_isWarning, _mjs_isWarning, _bind_mjs_isWarning, mjs_numWarnings, _mjs_numWarnings,
+        _bind_mjs_numWarnings, mjs_getWarning, _mjs_getWarning, _bind_mjs_getWarning):
+    _f.__module__ = __package__
+del _f

@@ -840,3 +840,24 @@ def mjs_getWrapCoef(wrap):
 Get coefficient of mjsWrap wrapping a joint.
 """
     return _mjs_getWrapCoef(wrap)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjs_getSpec, _mjs_getSpec, _bind_mjs_getSpec, mjs_getOriginSpec, _mjs_getOriginSpec,
+        _bind_mjs_getOriginSpec, mjs_getCompiler, _mjs_getCompiler, _bind_mjs_getCompiler,
+        mjs_findSpec, _mjs_findSpec, _bind_mjs_findSpec, mjs_findBody, _mjs_findBody,
+        _bind_mjs_findBody, mjs_findElement, _mjs_findElement, _bind_mjs_findElement,
+        mjs_findChild, _mjs_findChild, _bind_mjs_findChild, mjs_getParent, _mjs_getParent,
+        _bind_mjs_getParent, mjs_getFrame, _mjs_getFrame, _bind_mjs_getFrame, mjs_findFrame,
+        _mjs_findFrame, _bind_mjs_findFrame, mjs_getDefault, _mjs_getDefault, _bind_mjs_getDefault,
+        mjs_findDefault, _mjs_findDefault, _bind_mjs_findDefault, mjs_getSpecDefault,
+        _mjs_getSpecDefault, _bind_mjs_getSpecDefault, mjs_getId, _mjs_getId, _bind_mjs_getId,
+        mjs_firstChild, _mjs_firstChild, _bind_mjs_firstChild, mjs_nextChild, _mjs_nextChild,
+        _bind_mjs_nextChild, mjs_firstElement, _mjs_firstElement, _bind_mjs_firstElement,
+        mjs_nextElement, _mjs_nextElement, _bind_mjs_nextElement, mjs_getWrapTarget,
+        _mjs_getWrapTarget, _bind_mjs_getWrapTarget, mjs_getWrapSideSite, _mjs_getWrapSideSite,
+        _bind_mjs_getWrapSideSite, mjs_getWrapDivisor, _mjs_getWrapDivisor,
+        _bind_mjs_getWrapDivisor, mjs_getWrapCoef, _mjs_getWrapCoef, _bind_mjs_getWrapCoef):
+    _f.__module__ = __package__
+del _f

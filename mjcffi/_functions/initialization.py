@@ -1092,3 +1092,26 @@ def mjs_setDeepCopy(s, deepcopy):
 Turn deep copy on or off attach; return 0 on success.
 """
     return _mjs_setDeepCopy(s, deepcopy)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mj_defaultLROpt, _mj_defaultLROpt, _bind_mj_defaultLROpt, mj_defaultSolRefImp,
+        _mj_defaultSolRefImp, _bind_mj_defaultSolRefImp, mj_defaultOption, _mj_defaultOption,
+        _bind_mj_defaultOption, mj_defaultVisual, _mj_defaultVisual, _bind_mj_defaultVisual,
+        mj_saveModel, _mj_saveModel, _bind_mj_saveModel, mj_deleteModel, mj_sizeModel,
+        _mj_sizeModel, _bind_mj_sizeModel, mj_copyData, _mj_copyData, _bind_mj_copyData,
+        mjv_copyData, mj_resetCtrl, _mj_resetCtrl, _bind_mj_resetCtrl, mj_resetData, _mj_resetData,
+        _bind_mj_resetData, mj_resetDataDebug, _mj_resetDataDebug, _bind_mj_resetDataDebug,
+        mj_resetDataKeyframe, _mj_resetDataKeyframe, _bind_mj_resetDataKeyframe, mj_markStack,
+        _mj_markStack, _bind_mj_markStack, mj_freeStack, _mj_freeStack, _bind_mj_freeStack,
+        mj_stackAllocByte, _mj_stackAllocByte, _bind_mj_stackAllocByte, mj_stackAllocNum,
+        _mj_stackAllocNum, _bind_mj_stackAllocNum, mj_stackAllocInt, _mj_stackAllocInt,
+        _bind_mj_stackAllocInt, mj_deleteData, mj_resetCallbacks, _mj_resetCallbacks,
+        _bind_mj_resetCallbacks, mj_setConst, _mj_setConst, _bind_mj_setConst, mj_setLengthRange,
+        _mj_setLengthRange, _bind_mj_setLengthRange, mj_makeSpec, _mj_makeSpec, _bind_mj_makeSpec,
+        mj_copySpec, _mj_copySpec, _bind_mj_copySpec, mj_deleteSpec, mjs_activatePlugin,
+        _mjs_activatePlugin, _bind_mjs_activatePlugin, mjs_setDeepCopy, _mjs_setDeepCopy,
+        _bind_mjs_setDeepCopy):
+    _f.__module__ = __package__
+del _f

@@ -769,3 +769,23 @@ flexid: output array of shape (1,).
 skinid: output array of shape (1,).
 """
     return _mjv_select(m, d, vopt, aspectratio, relx, rely, scn, selpnt, geomid, flexid, skinid)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjv_defaultCamera, _mjv_defaultCamera, _bind_mjv_defaultCamera, mjv_defaultFreeCamera,
+        _mjv_defaultFreeCamera, _bind_mjv_defaultFreeCamera, mjv_defaultPerturb,
+        _mjv_defaultPerturb, _bind_mjv_defaultPerturb, mjv_room2model, _mjv_room2model,
+        _bind_mjv_room2model, mjv_model2room, _mjv_model2room, _bind_mjv_model2room,
+        mjv_cameraInModel, _mjv_cameraInModel, _bind_mjv_cameraInModel, mjv_cameraInRoom,
+        _mjv_cameraInRoom, _bind_mjv_cameraInRoom, mjv_frustumHeight, _mjv_frustumHeight,
+        _bind_mjv_frustumHeight, mjv_alignToCamera, _mjv_alignToCamera, _bind_mjv_alignToCamera,
+        mjv_moveCamera, _mjv_moveCamera, _bind_mjv_moveCamera, mjv_movePerturb, _mjv_movePerturb,
+        _bind_mjv_movePerturb, mjv_moveModel, _mjv_moveModel, _bind_mjv_moveModel, mjv_initPerturb,
+        _mjv_initPerturb, _bind_mjv_initPerturb, mjv_applyPerturbPose, _mjv_applyPerturbPose,
+        _bind_mjv_applyPerturbPose, mjv_applyPerturbForce, _mjv_applyPerturbForce,
+        _bind_mjv_applyPerturbForce, mjv_averageCamera, _mjv_averageCamera,
+        _bind_mjv_averageCamera, mjv_camera2GLCamera, _mjv_camera2GLCamera,
+        _bind_mjv_camera2GLCamera, mjv_select, _mjv_select, _bind_mjv_select):
+    _f.__module__ = __package__
+del _f

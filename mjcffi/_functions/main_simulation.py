@@ -267,3 +267,12 @@ Inverse dynamics with skip; skipstage is mjtStage.
                 _m.check(status)
             return
     return _mj_inverseSkip(m, d, skipstage, skipsensor)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mj_step1, _mj_step1, _bind_mj_step1, mj_step2, _mj_step2, _bind_mj_step2, mj_inverse,
+        _mj_inverse, _bind_mj_inverse, mj_forwardSkip, _mj_forwardSkip, _bind_mj_forwardSkip,
+        mj_inverseSkip, _mj_inverseSkip, _bind_mj_inverseSkip):
+    _f.__module__ = __package__
+del _f

@@ -1522,3 +1522,25 @@ Sigmoid function over 0<=x<=1 using quintic polynomial.
             _m.check_error()
         return ret
     return _mju_sigmoid(x)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mju_muscleGain, _mju_muscleGain, _bind_mju_muscleGain, mju_muscleBias, _mju_muscleBias,
+        _bind_mju_muscleBias, mju_muscleDynamics, _mju_muscleDynamics, _bind_mju_muscleDynamics,
+        mju_encodePyramid, _mju_encodePyramid, _bind_mju_encodePyramid, mju_decodePyramid,
+        _mju_decodePyramid, _bind_mju_decodePyramid, mju_springDamper, _mju_springDamper,
+        _bind_mju_springDamper, mju_min, _mju_min, _bind_mju_min, mju_max, _mju_max, _bind_mju_max,
+        mju_clip, _mju_clip, _bind_mju_clip, mju_sign, _mju_sign, _bind_mju_sign, mju_round,
+        _mju_round, _bind_mju_round, mju_type2Str, _mju_type2Str, _bind_mju_type2Str, mju_str2Type,
+        _mju_str2Type, _bind_mju_str2Type, mju_writeNumBytes, _mju_writeNumBytes,
+        _bind_mju_writeNumBytes, mju_warningText, _mju_warningText, _bind_mju_warningText,
+        mju_isBad, _mju_isBad, _bind_mju_isBad, mju_isZero, _mju_isZero, _bind_mju_isZero,
+        mju_standardNormal, _mju_standardNormal, _bind_mju_standardNormal, mju_f2n, _mju_f2n,
+        _bind_mju_f2n, mju_n2f, _mju_n2f, _bind_mju_n2f, mju_d2n, _mju_d2n, _bind_mju_d2n, mju_n2d,
+        _mju_n2d, _bind_mju_n2d, mju_insertionSort, _mju_insertionSort, _bind_mju_insertionSort,
+        mju_insertionSortInt, _mju_insertionSortInt, _bind_mju_insertionSortInt, mju_Halton,
+        _mju_Halton, _bind_mju_Halton, mju_strncpy, _mju_strncpy, _bind_mju_strncpy, mju_sigmoid,
+        _mju_sigmoid, _bind_mju_sigmoid):
+    _f.__module__ = __package__
+del _f

@@ -724,3 +724,20 @@ def mjs_addDefault(s, classname, parent=None):
 Add default.
 """
     return _mjs_addDefault(s, classname, parent)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjs_addActuator, _mjs_addActuator, _bind_mjs_addActuator, mjs_addSensor, _mjs_addSensor,
+        _bind_mjs_addSensor, mjs_addFlex, _mjs_addFlex, _bind_mjs_addFlex, mjs_makeFlex,
+        _mjs_makeFlex, _bind_mjs_makeFlex, mjs_addPair, _mjs_addPair, _bind_mjs_addPair,
+        mjs_addExclude, _mjs_addExclude, _bind_mjs_addExclude, mjs_addEquality, _mjs_addEquality,
+        _bind_mjs_addEquality, mjs_addTendon, _mjs_addTendon, _bind_mjs_addTendon, mjs_wrapSite,
+        _mjs_wrapSite, _bind_mjs_wrapSite, mjs_wrapGeom, _mjs_wrapGeom, _bind_mjs_wrapGeom,
+        mjs_wrapJoint, _mjs_wrapJoint, _bind_mjs_wrapJoint, mjs_wrapPulley, _mjs_wrapPulley,
+        _bind_mjs_wrapPulley, mjs_addNumeric, _mjs_addNumeric, _bind_mjs_addNumeric, mjs_addText,
+        _mjs_addText, _bind_mjs_addText, mjs_addTuple, _mjs_addTuple, _bind_mjs_addTuple,
+        mjs_addKey, _mjs_addKey, _bind_mjs_addKey, mjs_addPlugin, _mjs_addPlugin,
+        _bind_mjs_addPlugin, mjs_addDefault, _mjs_addDefault, _bind_mjs_addDefault):
+    _f.__module__ = __package__
+del _f

@@ -1114,3 +1114,24 @@ Call glGetError and return result.
 An OpenGL context must be current, and an MjrContext made (FatalError otherwise).
 """
     return _mjr_getError()
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjr_defaultContext, _mjr_defaultContext, _bind_mjr_defaultContext, mjr_defaultRendererInfo,
+        _mjr_defaultRendererInfo, _bind_mjr_defaultRendererInfo, mjr_getRendererInfo,
+        _mjr_getRendererInfo, _bind_mjr_getRendererInfo, mjr_changeFont, _mjr_changeFont,
+        _bind_mjr_changeFont, mjr_addAux, _mjr_addAux, _bind_mjr_addAux, mjr_resizeOffscreen,
+        _mjr_resizeOffscreen, _bind_mjr_resizeOffscreen, mjr_uploadTexture, _mjr_uploadTexture,
+        _bind_mjr_uploadTexture, mjr_uploadMesh, _mjr_uploadMesh, _bind_mjr_uploadMesh,
+        mjr_uploadHField, _mjr_uploadHField, _bind_mjr_uploadHField, mjr_restoreBuffer,
+        _mjr_restoreBuffer, _bind_mjr_restoreBuffer, mjr_setBuffer, _mjr_setBuffer,
+        _bind_mjr_setBuffer, mjr_blitBuffer, _mjr_blitBuffer, _bind_mjr_blitBuffer, mjr_setAux,
+        _mjr_setAux, _bind_mjr_setAux, mjr_blitAux, _mjr_blitAux, _bind_mjr_blitAux, mjr_text,
+        _mjr_text, _bind_mjr_text, mjr_overlay, _mjr_overlay, _bind_mjr_overlay, mjr_maxViewport,
+        _mjr_maxViewport, _bind_mjr_maxViewport, mjr_rectangle, _mjr_rectangle,
+        _bind_mjr_rectangle, mjr_label, _mjr_label, _bind_mjr_label, mjr_figure, _mjr_figure,
+        _bind_mjr_figure, mjr_render, _mjr_render, _bind_mjr_render, mjr_finish, _mjr_finish,
+        _bind_mjr_finish, mjr_getError, _mjr_getError, _bind_mjr_getError):
+    _f.__module__ = __package__
+del _f

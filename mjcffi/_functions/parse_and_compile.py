@@ -349,3 +349,14 @@ def mj_saveXML(s, filename):
 Save spec to XML file; return 0 on success, -1 otherwise.
 """
     return _mj_saveXML(s, filename)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mj_parseXML, _mj_parseXML, _bind_mj_parseXML, mj_parseXMLString, _mj_parseXMLString,
+        _bind_mj_parseXMLString, mj_parse, _mj_parse, _bind_mj_parse, mj_encode, _mj_encode,
+        _bind_mj_encode, mj_copyBack, _mj_copyBack, _bind_mj_copyBack, mj_recompile,
+        mj_saveLastXML, _mj_saveLastXML, _bind_mj_saveLastXML, mj_freeLastXML, _mj_freeLastXML,
+        _bind_mj_freeLastXML, mj_saveXML, _mj_saveXML, _bind_mj_saveXML):
+    _f.__module__ = __package__
+del _f

@@ -650,3 +650,21 @@ Return the number of globally registered archive providers.
         _m.check_error()
     return ret
     return _mjp_archiveProviderCount()
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjp_defaultPlugin, _mjp_defaultPlugin, _bind_mjp_defaultPlugin, mjp_registerPlugin,
+        mjp_pluginCount, _mjp_pluginCount, _bind_mjp_pluginCount, mjp_getPlugin, _mjp_getPlugin,
+        _bind_mjp_getPlugin, mjp_getPluginAtSlot, _mjp_getPluginAtSlot, _bind_mjp_getPluginAtSlot,
+        mjp_defaultProvider, _mjp_defaultProvider, _bind_mjp_defaultProvider, mjp_registerProvider,
+        mjp_providerCount, _mjp_providerCount, _bind_mjp_providerCount, mjp_findProvider,
+        _mjp_findProvider, _bind_mjp_findProvider, mjp_getProviderAtSlot, _mjp_getProviderAtSlot,
+        _bind_mjp_getProviderAtSlot, mjp_registerDecoder, mjp_defaultDecoder, _mjp_defaultDecoder,
+        _bind_mjp_defaultDecoder, mjp_findDecoder, mjp_registerEncoder, mjp_defaultEncoder,
+        _mjp_defaultEncoder, _bind_mjp_defaultEncoder, mjp_findEncoder, _mjp_findEncoder,
+        _bind_mjp_findEncoder, mjp_registerArchiveProvider, mjp_findArchiveProvider,
+        _mjp_findArchiveProvider, _bind_mjp_findArchiveProvider, mjp_archiveProviderCount,
+        _mjp_archiveProviderCount, _bind_mjp_archiveProviderCount):
+    _f.__module__ = __package__
+del _f

@@ -220,3 +220,11 @@ vec: array of shape (3,).
             _m.check(status)
         return
     return _mju_trnVecPose(res, pos, quat, vec)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mju_mulPose, _mju_mulPose, _bind_mju_mulPose, mju_negPose, _mju_negPose, _bind_mju_negPose,
+        mju_trnVecPose, _mju_trnVecPose, _bind_mju_trnVecPose):
+    _f.__module__ = __package__
+del _f

@@ -390,3 +390,16 @@ Print scene to text file, specifying format.
 float_format must be a valid printf-style format string for a single float value.
 """
     return _mj_printFormattedScene(s, filename, float_format)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mj_printFormattedModel, _mj_printFormattedModel, _bind_mj_printFormattedModel,
+        mj_printModel, _mj_printModel, _bind_mj_printModel, mj_printFormattedData,
+        _mj_printFormattedData, _bind_mj_printFormattedData, mj_printData, _mj_printData,
+        _bind_mj_printData, mju_printMat, _mju_printMat, _bind_mju_printMat, mju_printMatSparse,
+        _mju_printMatSparse, _bind_mju_printMatSparse, mj_printScene, _mj_printScene,
+        _bind_mj_printScene, mj_printFormattedScene, _mj_printFormattedScene,
+        _bind_mj_printFormattedScene):
+    _f.__module__ = __package__
+del _f

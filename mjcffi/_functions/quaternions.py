@@ -856,3 +856,18 @@ euler: array of shape (3,).
             _m.check(status)
         return
     return _mju_euler2Quat(quat, euler, seq)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mju_rotVecQuat, _mju_rotVecQuat, _bind_mju_rotVecQuat, mju_negQuat, _mju_negQuat,
+        _bind_mju_negQuat, mju_mulQuat, _mju_mulQuat, _bind_mju_mulQuat, mju_mulQuatAxis,
+        _mju_mulQuatAxis, _bind_mju_mulQuatAxis, mju_axisAngle2Quat, _mju_axisAngle2Quat,
+        _bind_mju_axisAngle2Quat, mju_quat2Vel, _mju_quat2Vel, _bind_mju_quat2Vel, mju_subQuat,
+        _mju_subQuat, _bind_mju_subQuat, mju_quat2Mat, _mju_quat2Mat, _bind_mju_quat2Mat,
+        mju_mat2Quat, _mju_mat2Quat, _bind_mju_mat2Quat, mju_derivQuat, _mju_derivQuat,
+        _bind_mju_derivQuat, mju_quatIntegrate, _mju_quatIntegrate, _bind_mju_quatIntegrate,
+        mju_quatZ2Vec, _mju_quatZ2Vec, _bind_mju_quatZ2Vec, mju_mat2Rot, _mju_mat2Rot,
+        _bind_mju_mat2Rot, mju_euler2Quat, _mju_euler2Quat, _bind_mju_euler2Quat):
+    _f.__module__ = __package__
+del _f

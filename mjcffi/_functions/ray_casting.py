@@ -591,3 +591,13 @@ vec: array of shape (3,).
 vertid: output array of shape (1,) or None.
 """
     return _mju_raySkin(nface, nvert, face, vert, pnt, vec, vertid)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mj_ray, _mj_ray, _bind_mj_ray, mj_multiRay, _mj_multiRay, _bind_mj_multiRay, mj_rayHfield,
+        _mj_rayHfield, _bind_mj_rayHfield, mj_rayMesh, _mj_rayMesh, _bind_mj_rayMesh, mju_rayGeom,
+        _mju_rayGeom, _bind_mju_rayGeom, mj_rayFlex, _mj_rayFlex, _bind_mj_rayFlex, mju_raySkin,
+        _mju_raySkin, _bind_mju_raySkin):
+    _f.__module__ = __package__
+del _f

@@ -144,3 +144,12 @@ The raw C function is mjcffi.lib.mju_decodeResource.
 """
     raise NotImplementedError(
         'mju_decodeResource: mjResource handles are opened and closed by resource providers in C')
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mju_openResource, mju_closeResource, mju_readResource, mju_writeResource,
+        _mju_writeResource, _bind_mju_writeResource, mju_getResourceDir, mju_isModifiedResource,
+        mju_decodeResource):
+    _f.__module__ = __package__
+del _f

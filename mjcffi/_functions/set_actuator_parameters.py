@@ -573,3 +573,18 @@ thermal: output array of shape (6,) or None.
 lugre: output array of shape (5,) or None.
 """
     return _mjs_setToDCMotor(actuator, motorconst, resistance, nominal, saturation, inductance, cogging, controller, thermal, lugre, ctrlspec)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjs_setToMotor, _mjs_setToMotor, _bind_mjs_setToMotor, mjs_setToPosition,
+        _mjs_setToPosition, _bind_mjs_setToPosition, mjs_setToIntVelocity, _mjs_setToIntVelocity,
+        _bind_mjs_setToIntVelocity, mjs_setToVelocity, _mjs_setToVelocity, _bind_mjs_setToVelocity,
+        mjs_setToOrientation, _mjs_setToOrientation, _bind_mjs_setToOrientation, mjs_setToPID,
+        _mjs_setToPID, _bind_mjs_setToPID, mjs_setToDamper, _mjs_setToDamper,
+        _bind_mjs_setToDamper, mjs_setToCylinder, _mjs_setToCylinder, _bind_mjs_setToCylinder,
+        mjs_setToMuscle, _mjs_setToMuscle, _bind_mjs_setToMuscle, mjs_setToAdhesion,
+        _mjs_setToAdhesion, _bind_mjs_setToAdhesion, mjs_setToDCMotor, _mjs_setToDCMotor,
+        _bind_mjs_setToDCMotor):
+    _f.__module__ = __package__
+del _f

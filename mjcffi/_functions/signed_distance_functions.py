@@ -76,3 +76,9 @@ The raw C function is mjcffi.lib.mjc_gradient.
 """
     raise NotImplementedError(
         "mjc_gradient: it needs an mjSDF that MuJoCo's SDF plugins fill with raw pointers")
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (mjc_getSDF, _mjc_getSDF, _bind_mjc_getSDF, mjc_distance, mjc_gradient):
+    _f.__module__ = __package__
+del _f

@@ -213,3 +213,12 @@ rownnz: array of shape (n,).
 rowadr: array of shape (n,).
 """
     return _mju_sym2dense(res, mat, rownnz, rowadr, colind)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mju_dense2sparse, _mju_dense2sparse, _bind_mju_dense2sparse, mju_sparse2dense,
+        _mju_sparse2dense, _bind_mju_sparse2dense, mju_sym2dense, _mju_sym2dense,
+        _bind_mju_sym2dense):
+    _f.__module__ = __package__
+del _f

@@ -380,3 +380,17 @@ def mjs_sensorDim(sensor):
 Return sensor dimension.
 """
     return _mjs_sensorDim(sensor)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjs_setDefault, _mjs_setDefault, _bind_mjs_setDefault, mjs_setFrame, _mjs_setFrame,
+        _bind_mjs_setFrame, mjs_resolveOrientation, _mjs_resolveOrientation,
+        _bind_mjs_resolveOrientation, mjs_fuseStatic, mjs_discardVisual, mjs_dedupAssets,
+        mjs_adoptInertial, _mjs_adoptInertial, _bind_mjs_adoptInertial, mjs_bodyToFrame,
+        mjs_setUserValue, _mjs_setUserValue, _bind_mjs_setUserValue, mjs_setUserValueWithCleanup,
+        mjs_getUserValue, _mjs_getUserValue, _bind_mjs_getUserValue, mjs_deleteUserValue,
+        _mjs_deleteUserValue, _bind_mjs_deleteUserValue, mjs_sensorDim, _mjs_sensorDim,
+        _bind_mjs_sensorDim):
+    _f.__module__ = __package__
+del _f

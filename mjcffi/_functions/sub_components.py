@@ -1535,3 +1535,28 @@ jar: array of shape (nefc,).
 cost: output array of shape (1,) or None.
 """
     return _mj_constraintUpdate(m, d, jar, cost, flg_coneHessian)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mj_sensorPos, _mj_sensorPos, _bind_mj_sensorPos, mj_sensorVel, _mj_sensorVel,
+        _bind_mj_sensorVel, mj_sensorAcc, _mj_sensorAcc, _bind_mj_sensorAcc, mj_energyPos,
+        _mj_energyPos, _bind_mj_energyPos, mj_energyVel, _mj_energyVel, _bind_mj_energyVel,
+        mj_checkPos, _mj_checkPos, _bind_mj_checkPos, mj_checkVel, _mj_checkVel, _bind_mj_checkVel,
+        mj_checkAcc, _mj_checkAcc, _bind_mj_checkAcc, mj_kinematics, _mj_kinematics,
+        _bind_mj_kinematics, mj_comPos, _mj_comPos, _bind_mj_comPos, mj_camlight, _mj_camlight,
+        _bind_mj_camlight, mj_flex, _mj_flex, _bind_mj_flex, mj_tendon, _mj_tendon,
+        _bind_mj_tendon, mj_transmission, _mj_transmission, _bind_mj_transmission, mj_crb, _mj_crb,
+        _bind_mj_crb, mj_makeM, _mj_makeM, _bind_mj_makeM, mj_factorM, _mj_factorM,
+        _bind_mj_factorM, mj_solveM, _mj_solveM, _bind_mj_solveM, mj_solveM2, _mj_solveM2,
+        _bind_mj_solveM2, mj_comVel, _mj_comVel, _bind_mj_comVel, mj_passive, _mj_passive,
+        _bind_mj_passive, mj_subtreeVel, _mj_subtreeVel, _bind_mj_subtreeVel, mj_rne, _mj_rne,
+        _bind_mj_rne, mj_rnePostConstraint, _mj_rnePostConstraint, _bind_mj_rnePostConstraint,
+        mj_maxContact, _mj_maxContact, _bind_mj_maxContact, mj_collision, _mj_collision,
+        _bind_mj_collision, mj_makeConstraint, _mj_makeConstraint, _bind_mj_makeConstraint,
+        mj_island, _mj_island, _bind_mj_island, mj_projectConstraint, _mj_projectConstraint,
+        _bind_mj_projectConstraint, mj_referenceConstraint, _mj_referenceConstraint,
+        _bind_mj_referenceConstraint, mj_constraintUpdate, _mj_constraintUpdate,
+        _bind_mj_constraintUpdate):
+    _f.__module__ = __package__
+del _f

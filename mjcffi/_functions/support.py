@@ -2879,3 +2879,40 @@ Return the current version of MuJoCo as a null-terminated string.
         _m.check_error()
     return _m.string(ret)
     return _mj_versionString()
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mj_stateSize, _mj_stateSize, _bind_mj_stateSize, mj_getState, _mj_getState,
+        _bind_mj_getState, mj_extractState, _mj_extractState, _bind_mj_extractState, mj_setState,
+        _mj_setState, _bind_mj_setState, mj_copyState, _mj_copyState, _bind_mj_copyState,
+        mj_readCtrl, _mj_readCtrl, _bind_mj_readCtrl, mj_readSensor, _mj_readSensor,
+        _bind_mj_readSensor, mj_initCtrlHistory, _mj_initCtrlHistory, _bind_mj_initCtrlHistory,
+        mj_initSensorHistory, _mj_initSensorHistory, _bind_mj_initSensorHistory, mj_setKeyframe,
+        _mj_setKeyframe, _bind_mj_setKeyframe, mj_addContact, _mj_addContact, _bind_mj_addContact,
+        mj_isPyramidal, _mj_isPyramidal, _bind_mj_isPyramidal, mj_isSparse, _mj_isSparse,
+        _bind_mj_isSparse, mj_isDual, _mj_isDual, _bind_mj_isDual, mj_mulJacVec, _mj_mulJacVec,
+        _bind_mj_mulJacVec, mj_mulJacTVec, _mj_mulJacTVec, _bind_mj_mulJacTVec, mj_jac, _mj_jac,
+        _bind_mj_jac, mj_jacBody, _mj_jacBody, _bind_mj_jacBody, mj_jacBodyCom, _mj_jacBodyCom,
+        _bind_mj_jacBodyCom, mj_jacSubtreeCom, _mj_jacSubtreeCom, _bind_mj_jacSubtreeCom,
+        mj_jacGeom, _mj_jacGeom, _bind_mj_jacGeom, mj_jacSite, _mj_jacSite, _bind_mj_jacSite,
+        mj_jacPointAxis, _mj_jacPointAxis, _bind_mj_jacPointAxis, mj_jacDot, _mj_jacDot,
+        _bind_mj_jacDot, mj_angmomMat, _mj_angmomMat, _bind_mj_angmomMat, mj_id2name, _mj_id2name,
+        _bind_mj_id2name, mj_actuatorInputName, _mj_actuatorInputName, _bind_mj_actuatorInputName,
+        mj_fullM, _mj_fullM, _bind_mj_fullM, mj_mulM, _mj_mulM, _bind_mj_mulM, mj_mulM2, _mj_mulM2,
+        _bind_mj_mulM2, mj_addM, _mj_addM, _bind_mj_addM, mj_applyFT, _mj_applyFT,
+        _bind_mj_applyFT, mj_objectVelocity, _mj_objectVelocity, _bind_mj_objectVelocity,
+        mj_objectAcceleration, _mj_objectAcceleration, _bind_mj_objectAcceleration,
+        mj_geomDistance, _mj_geomDistance, _bind_mj_geomDistance, mj_insideSite, _mj_insideSite,
+        _bind_mj_insideSite, mj_contactForce, _mj_contactForce, _bind_mj_contactForce,
+        mj_differentiatePos, _mj_differentiatePos, _bind_mj_differentiatePos, mj_integratePos,
+        _mj_integratePos, _bind_mj_integratePos, mj_normalizeQuat, _mj_normalizeQuat,
+        _bind_mj_normalizeQuat, mj_local2Global, _mj_local2Global, _bind_mj_local2Global,
+        mj_getTotalmass, _mj_getTotalmass, _bind_mj_getTotalmass, mj_setTotalmass,
+        _mj_setTotalmass, _bind_mj_setTotalmass, mj_getPluginConfig, _mj_getPluginConfig,
+        _bind_mj_getPluginConfig, mj_loadPluginLibrary, _mj_loadPluginLibrary,
+        _bind_mj_loadPluginLibrary, mj_loadAllPluginLibraries, _mj_loadAllPluginLibraries,
+        _bind_mj_loadAllPluginLibraries, mj_version, _mj_version, _bind_mj_version,
+        mj_versionString, _mj_versionString, _bind_mj_versionString):
+    _f.__module__ = __package__
+del _f

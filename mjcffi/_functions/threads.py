@@ -47,3 +47,9 @@ Create a thread pool with nthread worker threads.
 nthread must be within 0..1025-1.
 """
     return _mju_threadpool(d, nthread)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (mju_threadpool, _mju_threadpool, _bind_mju_threadpool):
+    _f.__module__ = __package__
+del _f

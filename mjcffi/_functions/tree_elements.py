@@ -312,3 +312,14 @@ The raw C function is mjcffi.lib.mjs_delete.
 """
     raise NotImplementedError(
         'mjs_delete: it frees the element (a body: its whole subtree), to which Python wrappers and NumPy views may still point: use MjSpec.delete, which ends those wrappers and refuses while views are held')
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjs_addBody, _mjs_addBody, _bind_mjs_addBody, mjs_addSite, _mjs_addSite, _bind_mjs_addSite,
+        mjs_addJoint, _mjs_addJoint, _bind_mjs_addJoint, mjs_addFreeJoint, _mjs_addFreeJoint,
+        _bind_mjs_addFreeJoint, mjs_addGeom, _mjs_addGeom, _bind_mjs_addGeom, mjs_addCamera,
+        _mjs_addCamera, _bind_mjs_addCamera, mjs_addLight, _mjs_addLight, _bind_mjs_addLight,
+        mjs_addFrame, _mjs_addFrame, _bind_mjs_addFrame, mjs_delete):
+    _f.__module__ = __package__
+del _f

@@ -96,3 +96,11 @@ Get builtin UI theme color (ind: 0-3).
         _m.check_error()
         return _m.struct_copy(_structs.MjuiThemeColor, ret)
     return _mjui_themeColor(ind)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjui_themeSpacing, _mjui_themeSpacing, _bind_mjui_themeSpacing, mjui_themeColor,
+        _mjui_themeColor, _bind_mjui_themeColor):
+    _f.__module__ = __package__
+del _f

@@ -3040,3 +3040,34 @@ rotnew2old: array of shape (9,) or None.
                 _m.check(status)
             return
     return _mju_transformSpatial(res, vec, flg_force, newpos, oldpos, rotnew2old)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mju_zero3, _mju_zero3, _bind_mju_zero3, mju_copy3, _mju_copy3, _bind_mju_copy3, mju_scl3,
+        _mju_scl3, _bind_mju_scl3, mju_add3, _mju_add3, _bind_mju_add3, mju_sub3, _mju_sub3,
+        _bind_mju_sub3, mju_addTo3, _mju_addTo3, _bind_mju_addTo3, mju_subFrom3, _mju_subFrom3,
+        _bind_mju_subFrom3, mju_addToScl3, _mju_addToScl3, _bind_mju_addToScl3, mju_addScl3,
+        _mju_addScl3, _bind_mju_addScl3, mju_normalize3, _mju_normalize3, _bind_mju_normalize3,
+        mju_norm3, _mju_norm3, _bind_mju_norm3, mju_dot3, _mju_dot3, _bind_mju_dot3, mju_dist3,
+        _mju_dist3, _bind_mju_dist3, mju_mulMatVec3, _mju_mulMatVec3, _bind_mju_mulMatVec3,
+        mju_mulMatTVec3, _mju_mulMatTVec3, _bind_mju_mulMatTVec3, mju_cross, _mju_cross,
+        _bind_mju_cross, mju_zero4, _mju_zero4, _bind_mju_zero4, mju_unit4, _mju_unit4,
+        _bind_mju_unit4, mju_copy4, _mju_copy4, _bind_mju_copy4, mju_normalize4, _mju_normalize4,
+        _bind_mju_normalize4, mju_zero, _mju_zero, _bind_mju_zero, mju_fill, _mju_fill,
+        _bind_mju_fill, mju_copy, _mju_copy, _bind_mju_copy, mju_sum, _mju_sum, _bind_mju_sum,
+        mju_L1, _mju_L1, _bind_mju_L1, mju_scl, _mju_scl, _bind_mju_scl, mju_add, _mju_add,
+        _bind_mju_add, mju_sub, _mju_sub, _bind_mju_sub, mju_addTo, _mju_addTo, _bind_mju_addTo,
+        mju_subFrom, _mju_subFrom, _bind_mju_subFrom, mju_addToScl, _mju_addToScl,
+        _bind_mju_addToScl, mju_addScl, _mju_addScl, _bind_mju_addScl, mju_normalize,
+        _mju_normalize, _bind_mju_normalize, mju_norm, _mju_norm, _bind_mju_norm, mju_dot,
+        _mju_dot, _bind_mju_dot, mju_mulMatVec, _mju_mulMatVec, _bind_mju_mulMatVec,
+        mju_mulMatTVec, _mju_mulMatTVec, _bind_mju_mulMatTVec, mju_mulVecMatVec, _mju_mulVecMatVec,
+        _bind_mju_mulVecMatVec, mju_transpose, _mju_transpose, _bind_mju_transpose, mju_symmetrize,
+        _mju_symmetrize, _bind_mju_symmetrize, mju_eye, _mju_eye, _bind_mju_eye, mju_mulMatMat,
+        _mju_mulMatMat, _bind_mju_mulMatMat, mju_mulMatMatT, _mju_mulMatMatT, _bind_mju_mulMatMatT,
+        mju_mulMatTMat, _mju_mulMatTMat, _bind_mju_mulMatTMat, mju_sqrMatTD, _mju_sqrMatTD,
+        _bind_mju_sqrMatTD, mju_transformSpatial, _mju_transformSpatial,
+        _bind_mju_transformSpatial):
+    _f.__module__ = __package__
+del _f

@@ -161,3 +161,13 @@ def mj_containsFileVFS(vfs, directory, filename):
 Check if file exists in VFS; return 1: exists, 0: not found.
 """
     return _mj_containsFileVFS(vfs, directory, filename)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mj_addFileVFS, _mj_addFileVFS, _bind_mj_addFileVFS, mj_addBufferVFS, _mj_addBufferVFS,
+        _bind_mj_addBufferVFS, mj_containsBufferVFS, _mj_containsBufferVFS,
+        _bind_mj_containsBufferVFS, mj_containsFileVFS, _mj_containsFileVFS,
+        _bind_mj_containsFileVFS):
+    _f.__module__ = __package__
+del _f

@@ -473,3 +473,17 @@ zhor: output array of shape (2,) or None.
 zclip: output array of shape (2,) or None.
 """
     return _mjv_cameraFrustum(zver, zhor, zclip, m, cam)
+
+
+# their module is the package, as the official's are mujoco._functions's (reprs, pickles)
+for _f in (
+        mjv_defaultOption, _mjv_defaultOption, _bind_mjv_defaultOption, mjv_defaultFigure,
+        _mjv_defaultFigure, _bind_mjv_defaultFigure, mjv_initGeom, _mjv_initGeom,
+        _bind_mjv_initGeom, mjv_connector, _mjv_connector, _bind_mjv_connector, mjv_updateScene,
+        _mjv_updateScene, _bind_mjv_updateScene, mjv_copyModel, mjv_addGeoms, _mjv_addGeoms,
+        _bind_mjv_addGeoms, mjv_makeLights, _mjv_makeLights, _bind_mjv_makeLights,
+        mjv_updateCamera, _mjv_updateCamera, _bind_mjv_updateCamera, mjv_updateSkin,
+        _mjv_updateSkin, _bind_mjv_updateSkin, mjv_cameraFrame, _mjv_cameraFrame,
+        _bind_mjv_cameraFrame, mjv_cameraFrustum, _mjv_cameraFrustum, _bind_mjv_cameraFrustum):
+    _f.__module__ = __package__
+del _f
