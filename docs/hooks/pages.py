@@ -341,8 +341,37 @@ def api_pages():
     pages["api/mjcffi-sim.md"] = "# mjcffi.sim (mujoco-py)\n\n::: mjcffi.sim\n    options:\n" \
         "      members: false\n\n" + "\n".join(_sim_section(sim_names, mjcffi.sim))
 
+    pages["api/official-subpackages.md"] = _OFFICIAL_SUBPACKAGES
     pages["api/index.md"] = _index(groups, sections)
     return pages
+
+
+# The official pure-Python subpackages, run from the installed official source on mjcffi
+# (mjcffi/_support/official_source.py): their API is the official one, so the page says
+# what each is and what it needs, and links to the official documentation.
+_OFFICIAL_SUBPACKAGES = """# The official subpackages
+
+These run the official bindings' own pure-Python code, read from the installed `mujoco`
+package, on mjcffi's objects: `import mjcffi.sysid`, or `from mujoco import sysid` under
+`sys.modules['mujoco'] = mjcffi`. Nothing of them is copied into mjcffi, and no official
+compiled module is imported on the way; their API is the official one
+([MuJoCo's Python documentation](https://mujoco.readthedocs.io/en/stable/python.html),
+[MJX](https://mujoco.readthedocs.io/en/stable/mjx.html)). How it works, and what differs:
+[the drop-in guide](../drop-in.md).
+
+| module | what it is | install |
+|---|---|---|
+| `mjcffi.sysid` | system identification: fit a model's parameters to recorded trajectories | `pip install 'mjcffi[sysid]'` |
+| `mjcffi.usd` | export a simulation to USD (Universal Scene Description) | `pip install 'mjcffi[usd]'` |
+| `mjcffi.msh2obj` | convert MuJoCo's legacy `.msh` meshes to `.obj`; `python -m mjcffi.msh2obj` | nothing more |
+| `mjcffi.introspect` | MuJoCo's headers as Python data: structs, functions, enums | nothing more |
+| `mjcffi.mjx` | MJX, MuJoCo in JAX: `mjx.put_model(m)` and `mjx.put_data(m, d)` take mjcffi's objects, `mjx.get_data_into(d, m, dx)` fills an mjcffi MjData | `pip install 'mjcffi[mjx]'` |
+
+A missing dependency is a `ModuleNotFoundError` that names the extra to install.
+`python -m conformance` runs their official tests on mjcffi, and compares MJX's steps from
+mjcffi's objects with those from the official's, bit for bit
+([conformance report](../conformance-report.md)).
+"""
 
 
 def _sim_section(names, module):
@@ -409,7 +438,9 @@ def _index(groups, sections):
               "[Other classes](classes.md), [Callbacks, handlers and values](helpers.md)"]
     lines += ["- Submodules: " + ", ".join(
         f"[{title}]({module.replace('.', '-')}.md)" for module, title in MODULES)
-        + ", [mjcffi.sim (mujoco-py)](mjcffi-sim.md)", ""]
+        + ", [mjcffi.sim (mujoco-py)](mjcffi-sim.md)",
+        "- [The official subpackages](official-subpackages.md): sysid, usd, msh2obj, "
+        "introspect and mjx, the official code on mjcffi", ""]
     return "\n".join(lines)
 
 
@@ -437,7 +468,8 @@ def api_nav():
         {"Callbacks, handlers and values": "api/helpers.md"},
         {"Submodules": [{title: f"api/{module.replace('.', '-')}.md"}
                         for module, title in MODULES]
-         + [{"mjcffi.sim (mujoco-py)": "api/mjcffi-sim.md"}]},
+         + [{"mjcffi.sim (mujoco-py)": "api/mjcffi-sim.md"},
+            {"The official subpackages": "api/official-subpackages.md"}]},
     ]
 
 
