@@ -1644,6 +1644,7 @@ def _package_init(groups, names, hand_docs):
     generated name, and the lazy lookup."""
     lines = [outputs.HEADER_PY.rstrip("\n"), _PACKAGE_DOC, "",
              "import importlib as _importlib", "",
+             "from .._support import hand_written as _hand_written",
              "from .._support.arena import _realloc_con_efc, _realloc_island  # noqa: F401  "
              "(official private)", "",
              "# every function of mujoco.h and mjbatch.h, in the headers' order; those not in",
@@ -1683,15 +1684,18 @@ raw C function.
 
 _PACKAGE_TAIL = '''def __getattr__(name):
     module = _MODULE_OF.get(name)
-    if module is None:
+    if module is not None:
+        value = getattr(_importlib.import_module(f"{__name__}.{module}"), name)
+    elif name in HAND_WRITTEN_DOCS:  # as the official's path holds them too
+        value = _hand_written.function(name)
+    else:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(_importlib.import_module(f"{__name__}.{module}"), name)
     globals()[name] = value          # the next lookup is a plain global
     return value
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_MODULE_OF))
+    return sorted(set(globals()) | set(_MODULE_OF) | set(HAND_WRITTEN_DOCS))
 
 
 def modules():

@@ -15,6 +15,7 @@ import importlib.util
 import sys
 
 from ._support import aliases as _aliases
+from ._support import hand_written as _hand_written
 from ._support import official_source as _official_source
 from . import _private_paths
 from ._generated.constants import *  # noqa: F401,F403
@@ -144,6 +145,15 @@ _aliases.install()
 # source, run on mjcffi (mjcffi/_support/official_source.py)
 _official_source.install()
 _private_paths.install()
+
+
+def _hand_written_function(name):
+    return getattr(importlib.import_module(".functions", __name__), name)
+
+
+# mjcffi._functions.mj_step, as the official mujoco._functions.mj_step: the generated
+# layer asks for the hand-written functions here (mjcffi/_support/hand_written.py)
+_hand_written.resolve = _hand_written_function
 
 
 def __dir__():

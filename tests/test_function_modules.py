@@ -87,3 +87,17 @@ def test_the_sections_hold_what_mujoco_h_declares_under_them():
     assert _functions._MODULE_OF["mjs_addBody"] == "tree_elements"
     batch = {n for n, m in _functions._MODULE_OF.items() if m == "batch"}
     assert batch and all(n.lstrip("_").removeprefix("bind_").startswith("mjb") for n in batch)
+
+
+def test_the_hand_written_functions_are_on_the_official_private_path_too():
+    # the official mujoco._functions holds mj_step; mjcffi's is hand-written, a tier up
+    for name in _functions.HAND_WRITTEN_DOCS:
+        assert getattr(_functions, name) is getattr(mjcffi, name), name
+    assert set(_functions.HAND_WRITTEN_DOCS) <= set(dir(_functions))
+    out = _run("import json, sys, mjcffi\n"
+               "sys.modules['mujoco'] = mjcffi\n"
+               "import mujoco._functions\n"
+               "from mujoco._functions import mj_forward\n"
+               "print(json.dumps([mujoco._functions.mj_step is mjcffi.mj_step,\n"
+               "                  mj_forward is mjcffi.mj_forward]))\n")
+    assert out == [True, True]

@@ -18,14 +18,11 @@ from .conftest import gymnasium_assets
 PRIVATE = ("_enums", "_constants", "_structs", "_functions", "_errors", "_callbacks",
            "_render", "_rollout", "_specs", "_batch")
 
-# official names with no mjcffi equivalent (mjcffi/_private_paths.py says why), and the
-# hand-written functions the generated function layer does not hold (a known gap)
+# official names with no mjcffi equivalent (mjcffi/_private_paths.py says why)
 NOT_IN_MJCFFI = {
     "_errors": {"UnexpectedError"},
     "_specs": {"MjByteVec"},
     "_structs": {"_recompile_spec_addr"},
-    "_functions": {"mj_embedAssets", "mj_forward", "mj_loadTexture", "mj_name2id",
-                   "mj_printSchema", "mj_step", "mju_getXMLDependencies"},
 }
 
 
