@@ -89,7 +89,8 @@ def test_the_message_says_how_to_get_an_mjcffi_model(mujoco, both):
     assert str(caught.value) == (
         "m must be an mjcffi.MjModel, not mujoco._structs.MjModel: objects of the official "
         "bindings are not accepted here; load the model with mjcffi (mjcffi.MjModel."
-        "from_xml_path / from_binary_path / from_xml_string), or pass mjcffi objects")
+        "from_xml_path / from_binary_path / from_xml_string), or pass mjcffi objects; "
+        "mjcffi.MjModel.from_official(m) views an official one without a copy")
 
 
 def test_other_wrong_types_keep_their_short_message(both):

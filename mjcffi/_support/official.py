@@ -47,5 +47,11 @@ def not_accepted(name, expected, value):
     else:
         instead = _INSTEAD.get(expected, f"make one with mjcffi.{expected}()")
         wanted = f"an mjcffi.{expected}"
+    view = (f"; mjcffi.{expected}.from_official({name}) views an official one without a "
+            f"copy" if expected in _VIEWS and not isinstance(value, type) else "")
     return TypeError(f"{name} must be {wanted}, not {what}: objects of the official bindings "
-                     f"are not accepted here; {instead}, or pass mjcffi objects")
+                     f"are not accepted here; {instead}, or pass mjcffi objects{view}")
+
+
+# the classes whose official objects mjcffi can view (mjcffi/_support/official_objects.py)
+_VIEWS = ("MjModel", "MjData")
