@@ -146,14 +146,10 @@ _aliases.install()
 _official_source.install()
 _private_paths.install()
 
-
-def _hand_written_function(name):
-    return getattr(importlib.import_module(".functions", __name__), name)
-
-
 # mjcffi._functions.mj_step, as the official mujoco._functions.mj_step: the generated
-# layer asks for the hand-written functions here (mjcffi/_support/hand_written.py)
-_hand_written.resolve = _hand_written_function
+# layer asks for the hand-written functions here (mjcffi/_support/hand_written.py), the
+# way mjcffi.mj_step resolves
+_hand_written.resolve = __getattr__
 
 
 def __dir__():

@@ -6,18 +6,15 @@ import importlib
 
 from ._generated.constants import *  # noqa: F401,F403
 
-# name -> the module that makes it (as mjcffi.<name> does)
-_LAZY = {"MJTNUM_BYTES": "._support.views",
-         **{name: "._support.stringtables" for name in (
-             "mjDISABLESTRING", "mjENABLESTRING", "mjFRAMESTRING", "mjLABELSTRING",
-             "mjRNDSTRING", "mjTIMERSTRING", "mjVISSTRING")}}
+# the official module's names that mjcffi makes on first use: mjcffi.<name> itself
+_LAZY = ("MJTNUM_BYTES", "mjDISABLESTRING", "mjENABLESTRING", "mjFRAMESTRING",
+         "mjLABELSTRING", "mjRNDSTRING", "mjTIMERSTRING", "mjVISSTRING")
 
 
 def __getattr__(name):
-    module = _LAZY.get(name)
-    if module is None:
+    if name not in _LAZY:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = globals()[name] = getattr(importlib.import_module(module, __package__), name)
+    value = globals()[name] = getattr(importlib.import_module(__package__), name)
     return value
 
 

@@ -194,7 +194,7 @@ class Search:
                 c = self.evaluate(s, nstep)
                 if self.fits(c.estimates):
                     if s != self.original:
-                        c.reasons.update(self._structural_reasons(c))
+                        c.reasons.update(self.structural_reasons(c))
                         out.append(c)
                     break
                 c.status = ("diverged" if any(math.isinf(e.value) for e in c.estimates.values())
@@ -223,22 +223,20 @@ class Search:
             more.status = "one step more after a held-out failure: error over the budget"
             return None
         more.reasons = dict(c.reasons)
-        before = _steps(self.nstep0, self.original.integrator)
-        why = (f"{_steps(nstep, s.integrator)} per control period instead of {before}: one "
-               f"more than {c.nstep}, which failed the held-out check "
-               f"({self.budget.describe(more.estimates)})")
-        for f in s.changes(self.original):
-            if f in ("integrator", "timestep"):
-                more.reasons[f] = why
+        more.reasons.update(self.structural_reasons(
+            more, f"one more than {c.nstep}, which failed the held-out check"))
         return more
 
-    def _structural_reasons(self, c):
+    def structural_reasons(self, c, why="the fewest of this integrator whose error fits "
+                                        "the budget"):
+        """{field: reason} for `c`'s integrator and timestep changes: its steps per period
+        against the original's, `why`, and its search-set error."""
         before = _steps(self.nstep0, self.original.integrator)
         after = _steps(c.nstep, c.setting.integrator)
-        why = (f"{after} per control period instead of {before}: the fewest of this "
-               f"integrator whose error fits the budget ({self.budget.describe(c.estimates)})")
-        return {f: why for f in c.setting.changes(self.original) if f in ("integrator",
-                                                                            "timestep")}
+        reason = (f"{after} per control period instead of {before}: {why} "
+                  f"({self.budget.describe(c.estimates)})")
+        return {f: reason for f in c.setting.changes(self.original) if f in ("integrator",
+                                                                               "timestep")}
 
     # ------------------------------------------------------------ solver
 

@@ -263,8 +263,7 @@ def _run(run, stages, base_disable, search_set, held_set, horizon_controls, pool
 
 def _cheapest_candidates(search, own, own_ok):
     """(every candidate tried, the finals in the order to verify them)."""
-    max_nstep = search.nstep0 * (MORE_STEPS if own_ok else MORE_STEPS_WHEN_MISSED)
-    structural, misses = search.structural(max_nstep)
+    structural, misses = search.structural(_max_nstep(search, own_ok))
     starts = ([own] if search.fits(own.estimates) else []) + structural
     tried, finals = [], []
     for start in starts:
@@ -276,6 +275,11 @@ def _cheapest_candidates(search, own, own_ok):
         c.speed = search.speed((own.setting, own.nstep), (c.setting, c.nstep))
     everything = _unique(structural + misses + tried + finals)
     return everything, _ranked(finals, search.budget)
+
+
+def _max_nstep(search, own_ok):
+    """The most steps per control period a 'cheapest' candidate may take."""
+    return search.nstep0 * (MORE_STEPS if own_ok else MORE_STEPS_WHEN_MISSED)
 
 
 def _ranked(finals, budget):
@@ -308,11 +312,8 @@ def _accurate_candidates(search, own):
                 continue
             c = search.evaluate(s, nstep)
             if search.fits(c.estimates) and budget.worst(c.estimates) < 1.0:
-                c.reasons.update(search._structural_reasons(c))
-                for f in c.reasons:
-                    c.reasons[f] = c.reasons[f].replace(
-                        "the fewest of this integrator whose error fits the budget",
-                        "more accurate than the original's")
+                c.reasons.update(search.structural_reasons(c, "more accurate than the "
+                                                              "original's"))
                 out.append(c)
     out.sort(key=lambda c: (budget.worst(c.estimates), c.nstep))
     ranked = []
@@ -334,7 +335,7 @@ def _first_verified(search, check, ranked, own, own_ok, objective):
     'cheapest', the same setting with one more step per period (at most FALLBACKS of
     those in all)."""
     queue = list(ranked)
-    max_nstep = search.nstep0 * (MORE_STEPS if own_ok else MORE_STEPS_WHEN_MISSED)
+    max_nstep = _max_nstep(search, own_ok)
     added, seen = [], {(c.setting, c.nstep) for c in queue}
     while queue:
         c = queue.pop(0)

@@ -61,14 +61,17 @@ class History:
         """A copy of the state at `index`: 0 the oldest kept, -1 the newest."""
         return self._states[self._row(index)].copy()
 
+    def _rows(self):
+        """The buffer rows of the states kept, oldest first."""
+        return (self._next - self._count + np.arange(self._count)) % self.capacity
+
     def states(self):
         """A copy of all the states kept, oldest first: shape (len(self), state_size)."""
-        rows = (self._next - self._count + np.arange(self._count)) % self.capacity
-        return self._states[rows]
+        return self._states[self._rows()]
 
     def times(self):
         """The simulation time of each state kept, oldest first (a state starts with it)."""
-        return self.states()[:, 0]
+        return self._states[self._rows(), 0]
 
     def record(self, model, data):
         """Add the state of `data` now, dropping the oldest when full."""

@@ -109,18 +109,8 @@ def _text(value, what, where):
 def check_texts(texts):
     """[(font, gridpos, text1, text2)] from one such tuple or a list of them."""
     name = "set_texts"
-    if isinstance(texts, tuple):
-        texts = [texts]
-    elif isinstance(texts, (str, bytes)):
-        raise TypeError(f"{name}() takes a tuple (font, gridpos, text1, text2) or a list "
-                        f"of them, not {type(texts).__name__}")
-    try:
-        entries = list(texts)
-    except TypeError:
-        raise TypeError(f"{name}() takes a tuple (font, gridpos, text1, text2) or a list "
-                        f"of them, not {type(texts).__name__}") from None
     checked = []
-    for index, entry in enumerate(entries):
+    for index, entry in enumerate(_entries(texts, "(font, gridpos, text1, text2)", name)):
         where = f"{name}(): entry {index}"
         try:
             font, gridpos, text1, text2 = entry
