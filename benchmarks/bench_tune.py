@@ -31,7 +31,7 @@ from mjcffi.evaluation.reference import REF_FACTOR, reference_setting
 from mjcffi.evaluation.settings import Setting
 from mjcffi.evaluation.states import initial_states, random_controls, sample
 from mjcffi.evaluation.timing import PeriodTimer, speed
-from mjcffi.tune import _verify
+from mjcffi.tune import _tune as _tune_module, _verify
 from mjcffi.tune._search import Candidate
 from mjcffi.tune._stages import unneeded_stages
 from mjcffi.tune._tune import _check_budget, _Run, _Verification
@@ -53,7 +53,7 @@ INTEGRATORS = (mjcffi.mjtIntegrator.mjINT_EULER, mjcffi.mjtIntegrator.mjINT_IMPL
                mjcffi.mjtIntegrator.mjINT_IMPLICIT, mjcffi.mjtIntegrator.mjINT_RK4)
 ITERATIONS = (10, 3, 1)           # beside the model's own
 FRESH_SEED = 1000                 # tune draws its states from seed 0
-NTRAJ, NSAMPLE = 32, 400     # as tune draws its own sets
+NTRAJ, NSAMPLE = _tune_module.NTRAJ, _tune_module.NSAMPLE     # as tune draws its own sets
 PAIRS = 9
 NTHREAD = 2
 WITHIN = 0.9                      # tune's speed at least this share of the grid's best
