@@ -81,6 +81,23 @@ def test_1_the_same_settings_on_every_run_on_a_loaded_machine(busy, chain_result
         assert len(r.speed.ratios) >= 15
 
 
+def test_1_a_tie_in_error_is_broken_by_the_setting_never_by_the_timing():
+    # Euler and implicitfast give the same bits on a model without damping: the same error,
+    # and timings that overlap.  Under load their measured order flipped, and with it the
+    # setting tune chose; the tie now goes to the cheaper integrator whatever the timing.
+    from mjcffi.evaluation.measures import Estimate
+    from mjcffi.evaluation.timing import Speed
+    euler = Setting(int(mjcffi.mjtIntegrator.mjINT_EULER), 0.01)
+    fast = euler.replace(integrator=int(mjcffi.mjtIntegrator.mjINT_IMPLICITFAST))
+    budget = _search.Budget({"hinge": 1e-2}, paired=False)
+    same = {"hinge": Estimate(9.27e-3, 9.56e-3, 400)}
+    for quicker in (euler, fast):
+        finals = [_search.Candidate(s, 1, dict(same),
+                                    speed=Speed(2.0 if s == quicker else 1.98, 1.9, 2.1, ()))
+                  for s in (euler, fast)]
+        assert [c.setting for c in _tune._ranked(finals, budget)] == [euler, fast]
+
+
 # ----------------------------------------------------------- 2. never worse than nothing
 
 def test_2_budget_original_is_never_slower_than_the_original():

@@ -24,7 +24,7 @@ from ..model import MjModel
 from ..warning_errors import ignore_warnings
 from . import _verify
 from ._result import Change, TuneError, TuneResult
-from ._search import MIN_GAIN, Budget, Candidate, Search
+from ._search import INTEGRATORS, MIN_GAIN, Budget, Candidate, Search
 from ._stages import unneeded_stages
 
 OBJECTIVES = ("cheapest", "accurate")
@@ -287,13 +287,18 @@ def _max_nstep(search, own_ok):
 
 def _ranked(finals, budget):
     """The finals, fastest first; where the fastest's interval overlaps others', the most
-    accurate of those goes first (a tie that a timing cannot break is broken by error)."""
+    accurate of those goes first (a tie that a timing cannot break is broken by error), and
+    at equal error the fewest steps, then the cheaper integrator, then the setting itself:
+    never the timing, which load moves (Euler and implicitfast give the same bits on a model
+    with no damping, and their order flipped under load)."""
     order = sorted(finals, key=lambda c: -c.speed.value)
     out = []
     while order:
         top = order[0]
         tied = [c for c in order if c.speed.high >= top.speed.low]
-        pick = min(tied, key=lambda c: (budget.worst(c.estimates), -c.speed.value))
+        pick = min(tied, key=lambda c: (budget.worst(c.estimates), c.nstep,
+                                        INTEGRATORS.index(c.setting.integrator),
+                                        repr(c.setting)))
         out.append(pick)
         order.remove(pick)
     return out
