@@ -10,6 +10,9 @@ import pytest
 
 PRELUDE = """
 import os, signal, threading, time
+# Ctrl-C as an interactive Python has it: a process started in the background by a shell
+# without job control inherits SIGINT ignored (POSIX), and so would ignore the test's own
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import numpy as np
 import mjcffi
 XML = '''<mujoco><worldbody><body><joint name="hinge"/><geom size=".1" mass="1"/>
