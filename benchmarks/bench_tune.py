@@ -31,10 +31,10 @@ from mjcffi.evaluation.reference import REF_FACTOR, reference_setting
 from mjcffi.evaluation.settings import Setting
 from mjcffi.evaluation.states import initial_states, random_controls, sample
 from mjcffi.evaluation.timing import PeriodTimer, speed
-from mjcffi.tune import _tune as _tune_module, _verify
+from mjcffi.tune import _verify
 from mjcffi.tune._search import Candidate
 from mjcffi.tune._stages import unneeded_stages
-from mjcffi.tune._tune import _check_budget, _Run, _Verification
+from mjcffi.tune._tune import NSAMPLE, NTRAJ, _check_budget, _Run, _Verification
 from mjcffi.warning_errors import ignore_warnings
 
 from .common import write_section
@@ -53,7 +53,6 @@ INTEGRATORS = (mjcffi.mjtIntegrator.mjINT_EULER, mjcffi.mjtIntegrator.mjINT_IMPL
                mjcffi.mjtIntegrator.mjINT_IMPLICIT, mjcffi.mjtIntegrator.mjINT_RK4)
 ITERATIONS = (10, 3, 1)           # beside the model's own
 FRESH_SEED = 1000                 # tune draws its states from seed 0
-NTRAJ, NSAMPLE = _tune_module.NTRAJ, _tune_module.NSAMPLE     # as tune draws its own sets
 PAIRS = 9
 NTHREAD = 2
 WITHIN = 0.9                      # tune's speed at least this share of the grid's best
@@ -141,10 +140,11 @@ class Fresh:
             run = _Run(m=self.m, budget=budget, limits=_check_budget(budget),
                        objective="cheapest", period=self.period, period_source="",
                        nstep0=NSTEP0, nthread=NTHREAD, progress=False, started=0.0, ray=False)
-            own = self.judge(self.original)
+            # no search set here: the check reads only the held-out figures it makes itself
+            own = Candidate(self.original, NSTEP0, estimates={})
             self._checks[budget] = _Verification(
-                run, self.base_disable, self.samples, self.ref, self.ref_end, self.pool,
-                Candidate(self.original, NSTEP0, own.estimates), self._horizon_controls)
+                run, self.base_disable, self.samples, self.ref, self.ref_end, self.pool, own,
+                self._horizon_controls)
         return self._checks[budget]
 
     def usable(self):
@@ -222,7 +222,7 @@ def _model_rows(name, budgets):
                 tunes.append(spent)
             else:
                 mine = fresh.time(fresh.judge(r.setting))
-                mine.passes(budget, fresh)
+                mine.passes(budget, fresh)      # its held-out problem, for its error cell
                 label = r.setting.label(original)
                 if r.outcome == "original":
                     label += " (original)"
@@ -284,10 +284,12 @@ def _error(j, budget):
     bound = j.estimates[kind].upper
     if math.isinf(value):
         return "diverged"
-    miss = "" if j.meets(budget) else " **over**"
-    problem = j.problems.get(budget)
-    if j.meets(budget) and problem:
-        miss = f" (fails the held-out check: {problem})"
+    if not j.meets(budget):
+        miss = " **over**"
+    elif j.problems.get(budget):
+        miss = f" (fails the held-out check: {j.problems[budget]})"
+    else:
+        miss = ""
     return f"{value:.2e} [{bound:.2e}] {kind}{miss}"
 
 
