@@ -59,6 +59,7 @@ FRESH_SEED = 1000                 # tune draws its states from seed 0
 # where tune's search states put it at 1.05e-2.  A draw 4x as large halves the bound's
 # width (a bootstrap over whole trajectories) and so that luck.
 FRESH_SCALE = 4
+FRESH_NTRAJ, FRESH_NSAMPLE = FRESH_SCALE * NTRAJ, FRESH_SCALE * NSAMPLE
 PAIRS = 9
 NTHREAD = 2
 WITHIN = 0.9                      # tune's speed at least this share of the grid's best
@@ -119,10 +120,10 @@ class Fresh:
         for s in unneeded_stages(m):       # tune switches these off; no trajectory changes
             self.base_disable |= s.flag
         rng = np.random.default_rng(FRESH_SEED)
-        init = initial_states(m, FRESH_SCALE * NTRAJ, rng)
+        init = initial_states(m, FRESH_NTRAJ, rng)
         nperiod = max(20, round(1.0 / self.period))
-        u = random_controls(m, rng, (FRESH_SCALE * NTRAJ, nperiod))
-        self.samples, self.diverged = sample(m, init, u, NSTEP0, FRESH_SCALE * NSAMPLE)
+        u = random_controls(m, rng, (FRESH_NTRAJ, nperiod))
+        self.samples, self.diverged = sample(m, init, u, NSTEP0, FRESH_NSAMPLE)
         self.ref_ok = None
         if self.diverged:
             return
@@ -191,7 +192,7 @@ def _model_rows(name, budgets):
         fresh = Fresh(m, pool)
         if fresh.diverged:
             why = (f"the model's own settings diverge on the fresh states ({len(fresh.diverged)} "
-                   f"of {FRESH_SCALE * NTRAJ} trajectories): no comparison")
+                   f"of {FRESH_NTRAJ} trajectories): no comparison")
             return [head.format(budget=b) + f" {why} |" + " |" * 8 for b in budgets], \
                 [None] * len(budgets), time.perf_counter() - started
         if not fresh.ref_ok.all():
@@ -319,9 +320,9 @@ def run(names=NAMES, budgets=BUDGETS):
              f"{{{', '.join(f'{k:g}' for k in MULTIPLIERS)}}} (whole steps per period), "
              "integrator {Euler, implicitfast, implicit, RK4} and the solver's iteration cap "
              f"{{the model's own, {', '.join(map(str, ITERATIONS))}}}. Both are judged on the "
-             f"same fresh states, which tune never saw: {FRESH_SCALE * NTRAJ} trajectories under "
+             f"same fresh states, which tune never saw: {FRESH_NTRAJ} trajectories under "
              f"the model's own settings with random controls held for a period, "
-             f"{FRESH_SCALE * NSAMPLE} states sampled along them, seed {FRESH_SEED}: "
+             f"{FRESH_NSAMPLE} states sampled along them, seed {FRESH_SEED}: "
              f"{FRESH_SCALE}× tune's held-out set, because the grid's best is picked on the "
              "very draw that judges it, and a larger draw leaves less of that choice to the "
              "draw's luck. Error is tune's own measure: one control period "
