@@ -17,7 +17,9 @@ import numpy as np
 
 from .. import functions as mjf
 from .. import rollout as _rollout
+from .._generated.constants import mjNSOLVER
 from ..data import MjData
+from .states import FULLPHYSICS
 
 
 def steps_per_second(m, reset, nstep, repeats=3, min_time=0.05):
@@ -73,6 +75,34 @@ class PeriodTimer:
             elapsed += time.thread_time() - t
             runs += 1
         return elapsed / (runs * len(self.states))
+
+
+def solver_work(m, samples, nstep, nsample=256):
+    """(iterations, line-search evaluations): the mean count of each that one control
+    period of `nstep` steps takes in the constraint solver, over a spread subset of the
+    samples.  A cost that no load moves: the same counts on every run.
+
+    Each step adds its islands' counts (`solver_niter` and the per-iteration `neval` of
+    `solver`, one block per island; the first block alone when the step made no island).
+    Under RK4 a step keeps only its last stage's counts, which serve as that step's share.
+    """
+    d = MjData(m)
+    pick = np.unique(np.linspace(0, len(samples) - 1, min(nsample, len(samples)))
+                     .round().astype(int))
+    niter = d.solver_niter
+    neval = d.solver.neval
+    iterations = evaluations = 0
+    for i in pick:
+        mjf.mj_setState(m, d, samples.states[i], FULLPHYSICS)
+        d.qacc_warmstart[:] = samples.warmstarts[i]
+        d.ctrl[:] = samples.next_controls[i]
+        for _ in range(nstep):
+            mjf.mj_step(m, d)
+            for island in range(max(1, d.nisland)):
+                n = int(niter[island])
+                iterations += n
+                evaluations += int(neval[island * mjNSOLVER:island * mjNSOLVER + n].sum())
+    return iterations / len(pick), evaluations / len(pick)
 
 
 @dataclasses.dataclass(frozen=True)

@@ -12,7 +12,10 @@ there.  So a loaded machine moves no choice unless a true gain sits right at tha
 2. From each of those, the solver, one option at a time:
    - options that can only make a step cheaper (fewer iterations, a looser tolerance,
      fewer line-search or noslip iterations) are taken at the cheapest value that fits,
-     with no timing needed;
+     with no timing needed, but only when it also cuts the work it acts on by `MIN_GAIN`:
+     the solver iterations (cap, tolerance) or line-search evaluations per period,
+     counted, not timed.  These options save nothing else, so a smaller cut would spend
+     error margin for no speed;
    - options whose cost can go either way (solver, cone, Jacobian) are taken only when
      measured faster;
    - a change that leaves every end state bit for bit as it was is a no-op for this
@@ -30,7 +33,7 @@ from .._generated.enums import mjtCone, mjtDisableBit, mjtIntegrator, mjtJacobia
 from ..evaluation import measures
 from ..evaluation.periods import period_estimates, setting_model
 from ..evaluation.settings import INTEGRATOR_NAMES, value_name
-from ..evaluation.timing import PeriodTimer, Speed, median_interval, speed
+from ..evaluation.timing import PeriodTimer, Speed, median_interval, solver_work, speed
 
 # the model's own integrator is tried first; then the others, cheapest step first
 INTEGRATORS = (int(mjtIntegrator.mjINT_EULER), int(mjtIntegrator.mjINT_IMPLICITFAST),
@@ -43,6 +46,10 @@ _NOSLIP = (0, 1, 2, 5)
 # a change judged by timing is made only when its whole 95 % interval is at least this
 MIN_GAIN = 1.05
 PAIRS = 9          # interleaved pairs per timing; 15 more when the interval straddles
+# options that lower a step's cost only through the solver work it does: which count of
+# solver_work (0: iterations, 1: line-search evaluations) each one cuts, and its name
+_SOLVER_WORK = {"iterations": (0, "solver iterations"), "tolerance": (0, "solver iterations"),
+                "ls_iterations": (1, "line-search evaluations")}
 # MuJoCo's jacobian=auto: dense below this many dofs, sparse from it (mj_isSparse)
 _AUTO_SPARSE_NV = 60
 
@@ -138,6 +145,7 @@ class Search:
         self.timings = 0
         self._cache = {}
         self._timers = {}
+        self._work = {}
 
     # ------------------------------------------------------------ measures
 
@@ -175,6 +183,15 @@ class Search:
 
     def fits(self, estimates):
         return self.budget.fits(estimates)
+
+    def solver_work(self, c):
+        """(iterations, line-search evaluations) per control period of candidate `c`, the
+        means over the samples (cached): the work a cap or a tolerance can lower, counted,
+        so no timing is needed."""
+        key = (c.setting, c.nstep)
+        if key not in self._work:
+            self._work[key] = solver_work(self.timer(*key).m, self.samples, c.nstep)
+        return self._work[key]
 
     # ------------------------------------------------- integrator and timestep
 
@@ -300,11 +317,26 @@ class Search:
                 continue
             change = (f"{value_name(field, getattr(best.setting, field))} → "
                       f"{value_name(field, value)}")
+            saved = None
+            if field in _SOLVER_WORK:
+                which, what = _SOLVER_WORK[field]
+                before, after = self.solver_work(best)[which], self.solver_work(c)[which]
+                counts = f"{what} per period {before:.3g} → {after:.3g}"
+                if not before or after * MIN_GAIN > before:
+                    # such a cut saves only the work it skips; when that is less than a
+                    # timed change must gain, it spends error margin for no speed
+                    c.status = (f"{field} {value_name(field, value)}: {counts}, fewer by "
+                                f"less than the {MIN_GAIN:g}× a change must gain")
+                    tried.append(c)
+                    return best
+                saved = (f"{counts}, {before / after:.2f}× fewer" if after
+                         else f"{counts}")
             if cheaper_only:
                 # no timing: this option only ever lowers the work of a step
                 c.reasons[field] = (f"{change}: the cheapest value whose error fits "
                                     f"({self.budget.describe(c.estimates)}), and it changes "
-                                    f"the result (a no-op is never made)")
+                                    f"the result (a no-op is never made)"
+                                    + (f"; {saved}" if saved else ""))
                 c.previous = best
                 tried.append(best)
                 return c
