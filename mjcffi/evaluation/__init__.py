@@ -8,7 +8,8 @@ One place for what both need to judge a setting of a model's options:
 - `reference`: the fine reference a setting is compared with;
 - `states`: initial states, random controls, and the states sampled along
   trajectories at each control period;
-- `timing`: steps per second, and speed ratios measured interleaved.
+- `timing`: steps per second, speed ratios measured interleaved, and the
+  solver's work (iterations, line-search evaluations) counted.
 """
 
 from .measures import JOINT_KINDS, local_error, position_error, quat_angle

@@ -5,7 +5,8 @@ is measured by timing two settings in turn, pair after pair, and taking the
 median of the pairs' ratios.  A control period is timed in CPU time of the
 calling thread (`time.thread_time`), not wall-clock time: on a loaded machine
 wall-clock ratios of two identical settings spread 0.3-1.9x, CPU-time ratios
-0.98-1.02x (DESIGN.md, fourth round).
+0.98-1.02x (DESIGN.md, fourth round).  What a solver option saves is counted
+instead (`solver_work`): its iterations and line-search evaluations, no timing at all.
 """
 
 import dataclasses
