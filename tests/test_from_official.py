@@ -434,7 +434,19 @@ def test_a_prepared_call_on_views_follows_the_official_steps(mujoco, hopper):
         point[:] = d.xpos[3]
 
 
-def test_tune_of_a_view_matches_tune_of_an_mjcffi_model(mujoco):
+def _counted_seconds(timer):
+    """A period's cost that no load moves, for tune's timings: steps × the integrator's
+    stages, PGS a tenth cheaper.  The real timing of Newton against PGS on this model sits
+    at tune's 1.05× line (1.05-1.09× measured), so two real runs can differ there; the
+    test is about the view, so both runs are given the same clock."""
+    stages = 4 if timer.m.opt.integrator == mjcffi.mjtIntegrator.mjINT_RK4 else 1
+    pgs = timer.m.opt.solver == mjcffi.mjtSolver.mjSOL_PGS
+    return timer.nstep * stages * (0.9 if pgs else 1.0)
+
+
+def test_tune_of_a_view_matches_tune_of_an_mjcffi_model(mujoco, monkeypatch):
+    from mjcffi.evaluation.timing import PeriodTimer
+    monkeypatch.setattr(PeriodTimer, "seconds_per_period", _counted_seconds)
     env = _env("InvertedPendulum-v5", steps=0)
     try:
         m = env.unwrapped.model

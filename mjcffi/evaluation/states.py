@@ -30,7 +30,7 @@ class Samples:
     states: np.ndarray       # (n x nstate) sampled states (mjSTATE_FULLPHYSICS)
     warmstarts: np.ndarray   # (n x nv) qacc_warmstart at each sampled state
     next_controls: np.ndarray  # (n x nu) the control held over the period that follows
-    trajectory: np.ndarray = None   # (n,) the trajectory each state was sampled from
+    trajectory: np.ndarray | None = None   # (n,) the trajectory each state was sampled from
 
     def __len__(self):
         return len(self.states)
