@@ -3,10 +3,10 @@
 For each model and error budget, tune's choice is compared with the fastest setting of
 a grid (timestep × 1, 1.5, 2, 3, 4; Euler, implicitfast, implicit, RK4; iteration cap the
 model's own, 10, 3, 1) that meets the budget on two fresh draws.  Both are judged on the
-same fresh states, drawn with a seed tune never used, by the whole check tune makes of its own choice on its
-held-out states (tune's code, run on the fresh states: the error bound, the 0.5 s
-divergence, penetration and stability), and both are timed the same way: CPU time of one
-thread, interleaved with the model's own settings.
+same fresh states, drawn with a seed tune never used, by the whole check tune makes of its
+own choice on its held-out states (tune's code, run on the fresh states: the error bound,
+the 0.5 s divergence, penetration and stability), and both are timed the same way: CPU
+time of one thread, interleaved with the model's own settings.
 
     python -m benchmarks.bench_tune            # 10 models, budgets 1e-3 and 1e-2
     python -m benchmarks.bench_tune --quick    # inverted_pendulum, reacher, hopper; 1e-2
@@ -198,9 +198,8 @@ def _model_rows(name, budgets):
         select = Fresh(m, pool, SELECT_SEED, NTRAJ, NSAMPLE)
         for draw in (fresh, select):
             if draw.diverged:
-                why = (f"the model's own settings diverge on fresh states "
-                       f"({len(draw.diverged)} of {draw.ntraj} "
-                       f"trajectories): no comparison")
+                why = ("the model's own settings diverge on fresh states "
+                       f"({len(draw.diverged)} of {draw.ntraj} trajectories): no comparison")
             elif not draw.ref_ok.all():
                 why = (f"the reference diverges from {int((~draw.ref_ok).sum())} fresh "
                        "states: no comparison")
