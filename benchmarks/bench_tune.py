@@ -225,14 +225,14 @@ def _model_rows(name, budgets):
 
         lines, verdicts, tunes = [], [], []
         for budget in budgets:
-            readings = (lambda j, b=budget: j.passes(b, fresh),   # tune's whole check
-                        lambda j, b=budget: j.meets(b),           # the 1-period bound only
-                        lambda j, b=budget: j.meets(b, bound=False))
-            picks = (lambda j, b=budget: j.passes(b, select),
-                     lambda j, b=budget: j.meets(b),
-                     lambda j, b=budget: j.meets(b, bound=False))
-            bests = [_best(judged, ok, lambda j: pick(selected(j)))
-                     for ok, pick in zip(readings, picks)]
+            # each reading of "passes": on the judging draw (fresh), and for the grid's
+            # best also on the selection draw
+            passes = (lambda j, draw, b=budget: j.passes(b, draw),   # tune's whole check
+                      lambda j, draw, b=budget: j.meets(b),          # the 1-period bound only
+                      lambda j, draw, b=budget: j.meets(b, bound=False))
+            readings = [lambda j, ok=ok: ok(j, fresh) for ok in passes]
+            bests = [_best(judged, lambda j, ok=ok: ok(j, fresh) and ok(selected(j), select))
+                     for ok in passes]
             called = time.perf_counter()
             try:
                 r = mjcffi.tune(m, budget, control_period=period, progress=False, seed=0)
@@ -272,12 +272,11 @@ def _model_rows(name, budgets):
     return lines, verdicts, wall
 
 
-def _best(judged, ok, picked):
-    """The grid's fastest timed setting that passes `ok` on the judging draw and `picked` on
-    the selection draw, or None (checked fastest first, so tune's whole held-out check runs
-    only as far as needed)."""
+def _best(judged, ok):
+    """The grid's fastest timed setting for which `ok(judged)` holds, or None (checked
+    fastest first, so tune's whole held-out check runs only as far as needed)."""
     for j in sorted((j for j in judged if j.speed is not None), key=lambda j: -j.speed.value):
-        if ok(j) and picked(j):
+        if ok(j):
             return j
     return None
 

@@ -329,8 +329,7 @@ class Search:
                                 f"less than the {MIN_GAIN:g}× a change must gain")
                     tried.append(c)
                     return best
-                saved = (f"{counts}, {before / after:.2f}× fewer" if after
-                         else f"{counts}")
+                saved = f"{counts}, {before / after:.2f}× fewer" if after else counts
             if cheaper_only:
                 # no timing: this option only ever lowers the work of a step
                 c.reasons[field] = (f"{change}: the cheapest value whose error fits "
