@@ -1,11 +1,12 @@
-"""Build script: compiles mjcffi._mjcffi; everything else lives in pyproject.toml.
+"""Build script: compiles mjcffi._mjcffi and mjcffi._descriptors; everything else lives
+in pyproject.toml.
 
 cffi_modules has no pyproject.toml spelling, and two wheel properties need code:
 
-- cffi builds the module against CPython's limited API (hence `_mjcffi.abi3.so`),
-  so one wheel serves every CPython from 3.11 on: tag it cp311-abi3.  A
-  free-threaded CPython has no limited API; cffi builds per-Python there, and so
-  does the wheel.
+- both modules are built against CPython's limited API (hence `_mjcffi.abi3.so`,
+  `_descriptors.abi3.so`), so one wheel serves every CPython from 3.11 on: tag it
+  cp311-abi3.  A free-threaded CPython has no limited API; both build per-Python
+  there, and so does the wheel.
 - a Python built with `-Wl,-rpath,<its prefix>/lib` in LDSHARED (pyenv's are)
   passes that path on to every extension; in a wheel it names a folder of the
   build machine, so it is dropped.  The module's own rpath into the mujoco-core
@@ -28,7 +29,7 @@ import shutil
 import sys
 import sysconfig
 
-from setuptools import setup
+from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 OLDEST_PYTHON = "cp311"   # pyproject.toml's requires-python, as mujoco-core 4.0.0
@@ -111,7 +112,13 @@ class BuildExtension(build_ext):
             print(f"mjcffi: {tree.relative_to(ROOT)} was compiled from these same inputs "
                   f"(digest {digest[:12]}); reusing it instead of compiling again")
             return
-        super().build_extension(ext)
+        # compile even where the sources are older than the module: the digest says an
+        # input changed (flags, headers, the library), which setuptools' mtime check misses
+        force, self.force = self.force, True
+        try:
+            super().build_extension(ext)
+        finally:
+            self.force = force
         self._compiled.append((digest, built, tree))
 
 
@@ -121,6 +128,19 @@ def wheel_options():
     return {"bdist_wheel": {"py_limited_api": OLDEST_PYTHON}}
 
 
+def descriptors_extension():
+    """mjcffi._descriptors, the C field descriptors (mjcffi/_c/descriptors.c): a plain
+    CPython extension beside the cffi module, on the limited API where there is one."""
+    limited = not sysconfig.get_config_var("Py_GIL_DISABLED")
+    # libc named outright: the compiler inlines all the module uses of it, and a module
+    # that needs no libc is one auditwheel cannot place ("couldn't detect libc")
+    return Extension("mjcffi._descriptors", ["mjcffi/_c/descriptors.c"],
+                     define_macros=[("Py_LIMITED_API", "0x030B0000")] if limited else [],
+                     extra_link_args=["-Wl,--no-as-needed", "-lc"],
+                     py_limited_api=limited)
+
+
 setup(cffi_modules=["mjcffi/_c/build.py:ffibuilder"],
+      ext_modules=[descriptors_extension()],
       cmdclass={"build_ext": BuildExtension},
       options=wheel_options())

@@ -8,7 +8,7 @@
 
 Each mutant is a few exact source edits: (file, old text, new text).  The tree
 is copied once to a temporary folder (the files git tracks or would track, and
-the compiled mjcffi/_mjcffi*.so as it is), and that snapshot again for each
+the compiled mjcffi/_mjcffi*.so and _descriptors*.so as they are), and that snapshot again for each
 mutant; the edits are applied in the mutant's copy, and its tests run there
 with `python -m pytest -x`, so that `import mjcffi` imports the copy (checked
 once).  The working tree is never touched, and other work going on in it
@@ -271,7 +271,8 @@ def _tree_files():
     listed = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"],
                             cwd=REPO, check=True, capture_output=True).stdout
     files = [name for name in listed.decode().split("\0") if name]
-    files += [str(p.relative_to(REPO)) for p in (REPO / "mjcffi").glob("_mjcffi*.so")]
+    files += [str(p.relative_to(REPO)) for pattern in ("_mjcffi*.so", "_descriptors*.so")
+              for p in (REPO / "mjcffi").glob(pattern)]
     return sorted({f for f in files if (REPO / f).is_file()})
 
 

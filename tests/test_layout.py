@@ -60,7 +60,7 @@ def test_basic_types_have_the_abi_sizes(name, size):
 # docs/architecture.md, "Layout": the tree shows the tiers, and imports run down them.  A module's
 # tier is read from where it lies:
 #   tables     mjcffi/_generated/          generated data; imports nothing of the package
-#   compiled   mjcffi._mjcffi              built from mjcffi/_c/
+#   compiled   mjcffi._mjcffi, mjcffi._descriptors   built from mjcffi/_c/
 #   support    mjcffi/_support/            imports the compiled module, tables and itself
 #   generated  mjcffi/structs/, mjcffi/_functions/   (the kept paths) use those three
 #   top        everything else: the public modules and subpackages, the mujoco-py face
@@ -68,6 +68,7 @@ def test_basic_types_have_the_abi_sizes(name, size):
 # an import of that module), and no module may reach itself through its imports.
 
 PACKAGE = Path(mjcffi.__file__).parent
+COMPILED = ("_mjcffi", "_descriptors")     # the extension modules, built by pip install
 ORDER = ("tables", "compiled", "support", "generated", "top")
 ALLOWED = {"tables": set(), "compiled": set(),
            "support": {"compiled", "tables", "support"},
@@ -83,7 +84,7 @@ def tier(dotted):
     first = parts[0]
     if first == "_generated":
         return "tables"
-    if first == "_mjcffi":
+    if first in COMPILED:
         return "compiled"
     if first == "_support":
         return "support"
@@ -104,7 +105,8 @@ def _modules():
 def _exists(dotted):
     relative = Path(*dotted.split(".")[1:])
     return (PACKAGE / relative).with_suffix(".py").exists() or \
-        (PACKAGE / relative / "__init__.py").exists() or dotted == "mjcffi._mjcffi"
+        (PACKAGE / relative / "__init__.py").exists() or dotted.split(".")[1:] in \
+        [[name] for name in COMPILED]
 
 
 def _imports(dotted, path):
@@ -235,7 +237,7 @@ def test_generated_files_lie_in_the_generated_places_and_nothing_else_does():
 
 def test_the_package_root_holds_at_most_forty_entries():
     entries = [p.name for p in PACKAGE.iterdir()
-               if p.name != "__pycache__" and not p.name.startswith("_mjcffi.")]
+               if p.name != "__pycache__" and p.name.split(".")[0] not in COMPILED]
     assert len(entries) <= 40, sorted(entries)
 
 

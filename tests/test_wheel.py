@@ -29,6 +29,7 @@ REPO = pathlib.Path(__file__).resolve().parent.parent
 PREBUILT = "MJCFFI_WHEEL"            # a wheel already built in this run: reused, not rebuilt
 LIBMUJOCO = "libmujoco.so.4.0.0"      # comes from mujoco-core, never inside our wheel
 MODULE = "mjcffi/_mjcffi.abi3.so"
+DESCRIPTORS = "mjcffi/_descriptors.abi3.so"    # the C field descriptors (mjcffi/_c/descriptors.c)
 COMPILERS = ("cc", "gcc", "c++", "g++", "clang", "tcc")
 NSTEP = 300
 
@@ -161,7 +162,7 @@ def test_the_wheel_is_abi3_and_carries_the_compiled_module_but_not_libmujoco(whe
     with zipfile.ZipFile(wheel) as archive:
         names = archive.namelist()
         metadata = archive.read(f"mjcffi-{version}.dist-info/WHEEL").decode()
-    assert MODULE in names
+    assert MODULE in names and DESCRIPTORS in names
     assert not [n for n in names if "libmujoco" in n], "libmujoco must come from mujoco-core"
     assert "Root-Is-Purelib: false" in metadata
     assert f"Tag: cp311-abi3-{platform.split('.')[0]}" in metadata
@@ -192,6 +193,14 @@ def test_the_module_links_libmujoco_through_a_relative_rpath_only(wheel, tmp_pat
     paths = [value for tag, value in entries if tag in ("RUNPATH", "RPATH")]
     # no folder of the build machine: only the way from site-packages/mjcffi to mujoco-core
     assert paths == ["$ORIGIN/../mujoco"], paths
+
+
+def test_the_descriptors_module_needs_no_library_path(wheel, tmp_path):
+    with zipfile.ZipFile(wheel) as archive:
+        archive.extract(DESCRIPTORS, tmp_path)
+    entries = dynamic_entries(tmp_path / DESCRIPTORS)
+    assert [value for tag, value in entries if tag in ("RUNPATH", "RPATH")] == [], entries
+    assert not [value for tag, value in entries if "mujoco" in value], entries
 
 
 def test_installed_without_a_compiler_it_loads_libmujoco_from_mujoco_core(wheel_venv, smoke):

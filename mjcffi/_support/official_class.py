@@ -23,7 +23,7 @@ import operator
 import numpy as np
 
 from .library import ffi
-from .views import _scalar_error
+from .views import Scalar, _scalar_error
 from .._generated.structinfo import STRUCTS
 
 # private names the official class dicts hold that mjcffi has too
@@ -109,4 +109,4 @@ def efc_count(name, doc):
         setattr(pointer, name, value)
     # ncon and nefc size views, and keep their value: tests/test_hardening_structs.py
     set_value.keeps_value = name not in _ROWS
-    return property(operator.attrgetter("_ptr." + name), set_value, doc=doc)
+    return Scalar(name, operator.attrgetter("_ptr." + name), set_value, doc)

@@ -1,7 +1,8 @@
 """Zero-copy NumPy views of MuJoCo memory, and the pieces the generated struct
 classes (mjcffi/structs/) are made of.
 
-A support module: it imports only the compiled module, _errors and NumPy.
+A support module: it imports the compiled modules (the cffi one, and
+_descriptors: the C field descriptors), _errors and NumPy.
 Every view keeps the memory it shows alive by referencing the *root* cdata
 (the gc-owned `mjData *`, `mjModel *` or `ffi.new` struct), never a Python
 wrapper, so a view cached on a wrapper makes no cycle (see `view`).
@@ -16,6 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .._descriptors import Field, Holder
 from . import official as _official
 from .errors import ArgumentError, check, raise_pending, with_note
 from .library import ffi
@@ -210,9 +212,10 @@ def eager(*fields):
 # Arrays whose size or address changes (mjData's contacts and efc_* arrays, which
 # live in its arena; a scene's geoms) are cached with the words of their struct
 # that define them: the pointer, and the counts that size it.  A read compares
-# those words, a memoryview over the struct, with a copy taken when the view was
-# made: one comparison in C (20 ns, where making a view costs a microsecond).  A
-# view is made again only when they differ, and then never handed out again.
+# those words with a copy taken when the view was made: for a DynamicArray in
+# Field's C get (mjcffi/_c/descriptors.c, a few ns), for a LiveStructArray as a
+# memoryview over the struct (20 ns); making a view costs a microsecond.  A view
+# is made again only when they differ, and then never handed out again.
 
 _WORD = np.dtype(f"i{ffi.sizeof('void *')}")
 
@@ -298,53 +301,46 @@ def _snapshot(key):
 _DYNAMIC: list = []       # every DynamicArray, at its index in the structs' _dyn lists
 
 
-class DynamicArray(property, Array):
+class DynamicArray(Field, Array):
     """An array whose size or address changes (the efc_* arrays: nefc, the arena).
 
-    Its view is cached in the struct's `_dyn` list, with its key (see _key): a read
-    compares the key with its copy and makes the view again only when they
-    differ.  A property with a closure for getter: the cheapest data descriptor
-    to call.  Memory not allocated (NULL) reads as a new array of `fill` each time,
-    as in the official bindings; an empty view is one cached empty array.
+    Its view is cached in the struct's `_dyn` list (a slot of the C base, Holder),
+    with a copy of its key: the words of the struct that define it (see _sizing).
+    A read is the C get of Field (mjcffi/_c/descriptors.c): it compares the key's
+    words in the struct with the copy, and returns the cached view while they are
+    equal; else it calls `_refresh` (the property's getter), which makes the view
+    again only when its pointer or shape changed.  Memory not allocated (NULL)
+    reads as a new array of `fill` each time, as in the official bindings; an
+    empty view is one cached empty array.
     """
 
     def __init__(self, name, elem, shape, doc="", fill=0):
         Array.__init__(self, name, elem, shape, doc, fill)
-        self._index = index = len(_DYNAMIC)
+        self._index = len(_DYNAMIC)
         _DYNAMIC.append(self)
         self._sizing = None
-        refresh = self._refresh
-
-        def get(obj):
-            try:
-                key, copy, value, fresh, _ = obj._dyn[index]
-            except (AttributeError, TypeError, IndexError):    # not read yet
-                return refresh(obj)
-            if key == copy:
-                return value.copy() if fresh else value
-            return refresh(obj)
 
         def set_value(obj, value):
-            assign(get(obj), value, name)
+            assign(self.__get__(obj), value, name)
 
-        property.__init__(self, get, set_value, None, doc)
+        property.__init__(self, self._refresh, set_value, None, doc)
+        self.__doc__ = doc
 
     def _refresh(self, obj):
         """The view as of now, made again unless its pointer and shape are unchanged,
         and recorded with a copy of its key taken before they were read."""
-        state = obj.__dict__
-        entries = state.get("_dyn")
+        entries = obj._dyn
         if entries is None or len(entries) < len(_DYNAMIC):
-            entries = state["_dyn"] = (entries or []) + \
-                [None] * (len(_DYNAMIC) - len(entries or []))
+            entries = (entries or []) + [None] * (len(_DYNAMIC) - len(entries or []))
+            obj._dyn = entries
         entry, entries[self._index] = entries[self._index], None    # none stale if this raises
         if self._sizing is None:
             self._sizing = _sizing(self.shape, obj._ctype, self.name)
-        if entry is None:
-            key, value, made = _key(_words(obj), self._sizing[0]), None, None
-        else:
-            key, _, value, _, made = entry
-        copy = _snapshot(key)                    # before reading what it defines
+            self._word_index = np.array(self._sizing[0]) // _WORD.itemsize
+            self._bind_moving(self._index, tuple(self._sizing[0]), ffi.sizeof(obj._ctype))
+        well_formed = type(entry) is tuple and len(entry) == 4
+        value, made = (entry[1], entry[3]) if well_formed else (None, None)
+        copy = _words(obj)[self._word_index].tobytes()      # before reading what it defines
         pointer, shape = getattr(obj._ptr, self.name), self._shape(obj)
         fresh = pointer == ffi.NULL and 0 not in shape
         if value is None or (pointer, shape) != made:
@@ -354,8 +350,8 @@ class DynamicArray(property, Array):
                 value = np.full(shape, self.fill, self.dtype)
             else:
                 value = view(pointer, self.dtype, shape, obj._root)
-        entries[self._index] = (key, copy if self._told(obj) else None, value, fresh,
-                                (pointer, shape))
+        entries[self._index] = (copy if self._told(obj) else None, value,
+                                value.copy if fresh else False, (pointer, shape))
         return value.copy() if fresh else value
 
     def _shape(self, obj):
@@ -793,15 +789,25 @@ class StructType(type):
     Attribute access never passes through here, so the hot path pays nothing.
     """
 
+    def __init__(cls, name, bases, namespace, **kwargs):
+        super().__init__(name, bases, namespace, **kwargs)
+        ctype = namespace.get("_ctype")
+        if ctype is not None:            # a generated class: its scalars read in C
+            for value in namespace.values():
+                if type(value) is Scalar and not value._kind:
+                    value._bind(ctype)
+
     def __dir__(cls):
         return sorted(set(super().__dir__()) | set(cls._eager))
 
 
-class Struct(metaclass=StructType):
+class Struct(Holder, metaclass=StructType):
     """Base of the generated struct classes: a pointer, and what keeps it alive.
 
     `_ptr` is the cdata pointer to the C struct; `_root` the cdata that owns
-    the memory (the struct itself, or the mjModel/mjData it lives in).
+    the memory (the struct itself, or the mjModel/mjData it lives in).  The C
+    base, Holder, keeps the struct's address (from `_locate`, on the first field
+    read) and the cached views of its moving memory, for the C field reads.
     Assigning to an array or nested-struct field writes into C memory; an
     unknown attribute is an AttributeError rather than a silent new one.
     Structs that hold pointers (MjModel, MjData, MjvScene, ...) compare by
@@ -872,7 +878,7 @@ class Struct(metaclass=StructType):
         the LiveStructArrays it gave follow it."""
         state = self.__dict__
         state.pop("_words", None)
-        state.pop("_dyn", None)
+        self._forget_memory()          # its address and _dyn: found again on the next read
         for value in list(state.values()):
             if isinstance(value, LiveStructArray):
                 value._follow(self)
@@ -890,6 +896,11 @@ class Struct(metaclass=StructType):
     @property
     def _address(self):
         """The address of the C struct, as an int."""
+        return int(ffi.cast("uintptr_t", self._ptr))
+
+    def _locate(self):
+        """The address of the C struct, for Holder: asked once, on the first field read
+        (and again after _forget_memory).  0 for none: the fields read in Python."""
         return int(ffi.cast("uintptr_t", self._ptr))
 
     def __setattr__(self, name, value):
@@ -1004,8 +1015,67 @@ class Bound(NamedTuple):
     label: str
 
 
+# Field's C get reads these scalar kinds (see mjcffi/_c/descriptors.c): (signed, bytes) ->
+# its code; floats and _Bool by name.  Others (char, which cffi reads as bytes; pointers)
+# stay unbound and read through the Python getter.
+_INT_KINDS = {(True, 1): 1, (False, 1): 2, (True, 2): 3, (False, 2): 4, (True, 4): 5,
+              (False, 4): 6, (True, 8): 7, (False, 8): 8}
+_NAMED_KINDS = {"float": 9, "double": 10, "_Bool": 11}
+
+
+class Scalar(Field):
+    """A scalar field of the C struct: a property whose get (Field's, in C) reads the
+    value at its offset, once its class has bound it (StructType); its Python
+    getter reads it through cffi where C does not (no address).  `field` is the
+    C field's name."""
+
+    def __init__(self, field, fget, fset, doc):
+        property.__init__(self, fget, fset, None, doc)
+        self.field, self.__doc__ = field, doc
+
+    def _bind(self, ctype):
+        """Read the field in C from now on, at its offset in struct type `ctype`."""
+        found = _field_at(ctype, self.field)
+        kind = found and _scalar_kind(found[0])
+        if kind:
+            self._bind_scalar(found[1], kind, ffi.sizeof(ctype))
+
+
+def _field_at(ctype, name):
+    """(cffi type, byte offset) of field `name` of struct type `ctype`, in anonymous
+    unions too; None if it has none."""
+    return _field_table(ctype).get(name)
+
+
+@functools.lru_cache(maxsize=None)
+def _field_table(ctype, base=0):
+    """{field: (cffi type, byte offset)} of struct type `ctype`, once per type (cffi
+    builds its `fields` list anew on each read)."""
+    table = {}
+    for field_name, field in ctype.fields:
+        if field_name:
+            table.setdefault(field_name, (field.type, base + field.offset))
+        elif field.type.kind in ("struct", "union"):
+            for name, found in _field_table(field.type, base + field.offset).items():
+                table.setdefault(name, found)
+    return table
+
+
+@functools.lru_cache(maxsize=None)
+def _scalar_kind(ftype):
+    """The code of Field's C read of a field of cffi type `ftype` (see _INT_KINDS), or
+    None where cffi's read must stay (char, pointers)."""
+    if ftype.kind == "primitive" and ftype.cname in _NAMED_KINDS:
+        return _NAMED_KINDS[ftype.cname]
+    if ftype.kind == "enum" or (ftype.kind == "primitive" and ftype.cname != "char"):
+        span = _range(ftype)
+        if span is not None:
+            return _INT_KINDS.get((span[0] < 0, ffi.sizeof(ftype)))
+    return None
+
+
 def scalar(name, doc, readonly=False, boolean=False, mirror=None):
-    """A property reading and writing one scalar field of the C struct.
+    """A property reading and writing one scalar field of the C struct (a Scalar).
 
     A `boolean` field takes any integer, as True or False.  Writing a field
     with a `mirror` also writes 1 or 0 to that one (mjModel.flg_gravcomp sets
@@ -1025,8 +1095,8 @@ def scalar(name, doc, readonly=False, boolean=False, mirror=None):
             raise _scalar_error(self, name, value, exc) from None
         if mirror is not None:
             setattr(self._ptr, mirror, 1 if value else 0)
-    return property(operator.attrgetter("_ptr." + name), None if readonly else set_value,
-                    doc=doc)
+    return Scalar(name, operator.attrgetter("_ptr." + name), None if readonly else set_value,
+                  doc)
 
 
 def _check_bound(self, name, value, limit):
