@@ -16,6 +16,7 @@ import pytest
 
 import mjcffi
 import mjcffi.structs
+import mjcffi.structs.mjspec
 from mjcffi._descriptors import MOVING, Field, Holder
 from mjcffi._support import views
 from mjcffi._support.library import ffi
@@ -205,3 +206,16 @@ def test_malformed_cache_entries_are_made_again_not_trusted():
 def test_struct_instances_are_holders():
     assert issubclass(views.Struct, Holder)
     assert isinstance(mjcffi.MjOption(), Holder)
+
+
+def test_a_deleted_spec_element_is_never_read_in_c():
+    """After spec.delete, even the class's own descriptor, called directly, does not
+    read the freed element: the C side forgot its address."""
+    spec = mjcffi.MjSpec()
+    body = spec.worldbody.add_body()
+    body.gravcomp = 0.25
+    field = vars(mjcffi.structs.mjspec.MjsBody)["gravcomp"]      # the generated class
+    assert type(field) is views.Scalar and field._kind and field.__get__(body) == 0.25
+    spec.delete(body)
+    with pytest.raises(ValueError, match="deleted"):
+        field.__get__(body)

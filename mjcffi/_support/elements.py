@@ -332,6 +332,7 @@ def _end(wrapper, label, taken=None):
     state = wrapper.__dict__
     nested = state.get("_taking")
     state.clear()
+    Struct._forget_memory(wrapper)      # no C read of the freed element (views.Holder)
     state["_deleted"] = label
     if nested is not None or taken is not None:
         state["_taken"] = taken if taken is not None else nested
