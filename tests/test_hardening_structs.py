@@ -446,7 +446,8 @@ def test_item_no_scalar_setter_lets_an_overflow_error_out():
         for attr, field in _descriptors(cls):
             if not _writable(cls, attr):
                 continue
-            ctype = _views._field_type(struct_type, _views._cname_of(attr))
+            found = _views._field_at(struct_type, _views._cname_of(attr))
+            ctype = found and found[0]
             if ctype is None or ctype.kind not in ("primitive", "enum"):
                 continue                               # function pointers, char arrays
             kept = getattr(obj, attr)

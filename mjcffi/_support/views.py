@@ -901,7 +901,7 @@ class Struct(Holder, metaclass=StructType):
     def _locate(self):
         """The address of the C struct, for Holder: asked once, on the first field read
         (and again after _forget_memory).  0 for none: the fields read in Python."""
-        return int(ffi.cast("uintptr_t", self._ptr))
+        return self._address
 
     def __setattr__(self, name, value):
         field = type(self)._eager.get(name) or getattr(type(self), name, None)
@@ -1120,18 +1120,6 @@ def _check_bound(self, name, value, limit):
         capacity[1] = number
 
 
-def _field_type(ctype, name):
-    """The cffi type of field `name` of struct type `ctype`, in anonymous unions too."""
-    for field_name, field in ctype.fields:
-        if field_name == name:
-            return field.type
-        if not field_name and field.type.kind in ("struct", "union"):
-            found = _field_type(field.type, name)
-            if found is not None:
-                return found
-    return None
-
-
 def _range(ctype):
     """(low, high) of a C integer or enum type, or None for a floating-point one."""
     if ctype.kind == "primitive" and ctype.cname in ("float", "double", "long double"):
@@ -1149,7 +1137,7 @@ def _scalar_error(self, name, value, exc):
     is also the official TypeError) when it does not fit the C type, naming the
     type's range; a TypeError when it is no number."""
     title = f"{type(self).__name__}.{name}"
-    ctype = _field_type(ffi.typeof(self._ptr).item, name)
+    ctype = (_field_at(ffi.typeof(self._ptr).item, name) or (None,))[0]
     if isinstance(exc, TypeError) or ctype is None:
         pointer = ctype is not None and ctype.kind in ("pointer", "function")
         return TypeError(f"{title} takes {'a function pointer' if pointer else 'a number'} "
