@@ -33,6 +33,9 @@ from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 OLDEST_PYTHON = "cp311"   # pyproject.toml's requires-python, as mujoco-core 4.0.0
+# the limited API of that Python (0x030B0000), the one the abi3 tag promises
+LIMITED_API = f"0x03{int(OLDEST_PYTHON[3:]):02X}0000"
+FREE_THREADED = bool(sysconfig.get_config_var("Py_GIL_DISABLED"))   # no limited API there
 
 
 def is_absolute_rpath(argument):
@@ -123,7 +126,7 @@ class BuildExtension(build_ext):
 
 
 def wheel_options():
-    if sysconfig.get_config_var("Py_GIL_DISABLED"):
+    if FREE_THREADED:
         return {}
     return {"bdist_wheel": {"py_limited_api": OLDEST_PYTHON}}
 
@@ -131,11 +134,11 @@ def wheel_options():
 def descriptors_extension():
     """mjcffi._descriptors, the C field descriptors (mjcffi/_c/descriptors.c): a plain
     CPython extension beside the cffi module, on the limited API where there is one."""
-    limited = not sysconfig.get_config_var("Py_GIL_DISABLED")
+    limited = not FREE_THREADED
     # libc named outright: the compiler inlines all the module uses of it, and a module
     # that needs no libc is one auditwheel cannot place ("couldn't detect libc")
     return Extension("mjcffi._descriptors", ["mjcffi/_c/descriptors.c"],
-                     define_macros=[("Py_LIMITED_API", "0x030B0000")] if limited else [],
+                     define_macros=[("Py_LIMITED_API", LIMITED_API)] if limited else [],
                      extra_link_args=["-Wl,--no-as-needed", "-lc"],
                      py_limited_api=limited)
 
