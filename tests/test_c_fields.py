@@ -8,6 +8,7 @@ that outlives its wrapper."""
 import gc
 import importlib
 import math
+import operator
 import pkgutil
 import random
 import weakref
@@ -182,15 +183,48 @@ def test_the_private_c_entry_points_refuse_what_would_read_out_of_bounds():
     with pytest.raises(TypeError, match="_dyn must be a list"):
         d._dyn = (1, 2)
     field = views.Scalar("x", lambda obj: 0, None, "")
+    owner = mjcffi.MjOption
     with pytest.raises(ValueError, match="no scalar of kind 10 at offset 100"):
-        field._bind_scalar(100, 10, 104)
+        field._bind_scalar(owner, 100, 10, 104)
     with pytest.raises(ValueError, match="no scalar of kind 12"):
-        field._bind_scalar(0, 12, 104)
+        field._bind_scalar(owner, 0, 12, 104)
     with pytest.raises(ValueError, match="outside a 16-byte struct"):
-        field._bind_moving(0, (16,), 16)
+        field._bind_moving(owner, 0, (16,), 16)
     with pytest.raises(ValueError, match="1 to 8 key words"):
-        field._bind_moving(0, (), 16)
+        field._bind_moving(owner, 0, (), 16)
+    for not_a_struct_class in (int, mjcffi.MjOption(), None):
+        with pytest.raises(TypeError, match="binds to a struct class"):
+            field._bind_scalar(not_a_struct_class, 0, 10, 104)
     assert field._kind == 0
+
+
+def test_a_field_reads_in_c_only_instances_of_its_own_struct_class():
+    """Another struct's memory has another layout: a field of MjModel given an MjOption
+    (or an MjData given to MjvScene's moving array) reads through cffi, which says the
+    struct has no such field, as before the C reads."""
+    m = mjcffi.MjModel.from_xml_path(str(HUMANOID))
+    d = mjcffi.MjData(m)
+    with pytest.raises(AttributeError, match="signature"):
+        vars(mjcffi.MjModel)["signature"].__get__(m.opt)
+    with pytest.raises(AttributeError, match="MjvScene has no field 'efc_force'"):
+        vars(mjcffi.MjData)["efc_force"].__get__(mjcffi.MjvScene(m, 10))
+    assert vars(mjcffi.MjModel)["nq"].__get__(m) == m._ptr.nq
+    mjcffi.mj_step(m, d)
+    assert vars(mjcffi.MjData)["efc_force"].__get__(d) is d.efc_force
+
+
+def test_a_class_and_its_fields_are_collected_together():
+    """A field holds its struct class (for the C check above); the GC sees that edge, so a
+    class made at run time goes with its fields."""
+    field = views.Scalar("timestep", operator.attrgetter("_ptr.timestep"), None, "")
+    cls = views.StructType("Made", (views.ValueStruct,),
+                           {"_cname": "mjOption", "_ctype": mjcffi.MjOption._ctype,
+                            "timestep": field})
+    assert field._kind and cls().timestep == 0.0
+    gone = weakref.ref(cls), weakref.ref(field)
+    del cls, field
+    gc.collect()
+    assert [ref() for ref in gone] == [None, None]
 
 
 def test_malformed_cache_entries_are_made_again_not_trusted():

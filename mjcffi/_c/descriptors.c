@@ -8,11 +8,12 @@
    - `Holder`, the C base of mjcffi's Struct: the address of the C struct it shows
      (found once, on the first read, through `obj._locate()`) and `_dyn`, the list
      of cached views of moving memory (see DynamicArray in _support/views.py);
-   - `Field`, a subclass of `property` whose get reads a scalar at its offset in the
-     struct, or returns the cached view of a moving array while the words of the
-     struct that define it (its pointer, its counts) are as when it was made.
-     Anything else (no address yet, a changed key, a field it was not told about)
-     goes to the property's own getter, the Python code, which refreshes the cache.
+   - `Field`, a subclass of `property` bound to its struct class: given an instance
+     of it, its get reads a scalar at its offset in the struct, or returns the cached
+     view of a moving array while the words of the struct that define it (its
+     pointer, its counts) are as when it was made.  Anything else (another class, no
+     address yet, a changed key, a field it was not told about) goes to the
+     property's own getter, the Python code, which refreshes the cache.
 
    Built against the limited API (one abi3 module, as the cffi one): Field's own
    data lies after property's, at an offset read when the module loads. */
@@ -135,6 +136,7 @@ enum { UNBOUND, I8, U8, I16, U16, I32, U32, I64, U64, F32, F64, BOOL, MOVING };
 
 typedef struct {
     int kind;
+    PyObject *owner;                /* the struct class it reads (a strong reference) */
     Py_ssize_t offset;              /* a scalar's byte offset */
     Py_ssize_t index;               /* a moving array's entry in Holder.dyn */
     int nkey;                       /* its key: words at these byte offsets */
@@ -144,6 +146,9 @@ typedef struct {
 static PyTypeObject *field_type;
 static Py_ssize_t property_size;    /* where FieldData starts in a Field */
 static descrgetfunc property_get;
+static traverseproc property_traverse;
+static inquiry property_clear;
+static destructor property_dealloc;
 
 #define DATA(self) ((FieldData *)((char *)(self) + property_size))
 
@@ -192,7 +197,7 @@ static PyObject *cached_view(const FieldData *f, Holder *holder, const char *add
 static PyObject *field_get(PyObject *self, PyObject *obj, PyObject *type) {
     const FieldData *f = DATA(self);
     if (obj != NULL && obj != Py_None && f->kind != UNBOUND &&
-            PyObject_TypeCheck(obj, holder_type)) {
+            PyObject_TypeCheck(obj, (PyTypeObject *)f->owner)) {   /* its struct type */
         const char *addr = address(obj);
         if (addr != NULL) {
             if (f->kind != MOVING)
@@ -205,11 +210,30 @@ static PyObject *field_get(PyObject *self, PyObject *obj, PyObject *type) {
     return property_get(self, obj, type);      /* the Python getter */
 }
 
-/* _bind_scalar(offset, width, kind, struct size): read `kind` at `offset` from now on. */
+/* The struct class `owner` (a Holder type) that a field is bound to, or NULL and a
+   TypeError: the C get reads only instances of it, whose memory has its layout. */
+static PyObject *owner_of(PyObject *owner) {
+    if (!PyType_Check(owner) || !PyType_IsSubtype((PyTypeObject *)owner, holder_type)) {
+        PyErr_SetString(PyExc_TypeError, "a field binds to a struct class (a Holder type)");
+        return NULL;
+    }
+    return owner;
+}
+
+static void set_owner(FieldData *f, PyObject *owner) {
+    PyObject *old = f->owner;
+    Py_INCREF(owner);
+    f->owner = owner;
+    Py_XDECREF(old);
+}
+
+/* _bind_scalar(owner, offset, kind, struct size): read `kind` at `offset` of instances of
+   `owner` from now on. */
 static PyObject *field_bind_scalar(PyObject *self, PyObject *args) {
     Py_ssize_t offset, size;
     int kind;
-    if (!PyArg_ParseTuple(args, "nin", &offset, &kind, &size))
+    PyObject *owner;
+    if (!PyArg_ParseTuple(args, "Onin", &owner, &offset, &kind, &size) || !owner_of(owner))
         return NULL;
     static const int width[] = {0, 1, 1, 2, 2, 4, 4, 8, 8, 4, 8, 1};
     if (kind <= UNBOUND || kind >= MOVING || offset < 0 || offset + width[kind] > size) {
@@ -218,17 +242,20 @@ static PyObject *field_bind_scalar(PyObject *self, PyObject *args) {
         return NULL;
     }
     FieldData *f = DATA(self);
+    set_owner(f, owner);
     f->offset = offset;
     f->kind = kind;
     Py_RETURN_NONE;
 }
 
-/* _bind_moving(index, key offsets, struct size): a moving array, whose cache entry is
-   Holder.dyn[index], valid while the words at the key offsets are as copied. */
+/* _bind_moving(owner, index, key offsets, struct size): a moving array of instances of
+   `owner`, whose cache entry is Holder.dyn[index], valid while the words at the key
+   offsets are as copied. */
 static PyObject *field_bind_moving(PyObject *self, PyObject *args) {
     Py_ssize_t index, size;
-    PyObject *offsets;
-    if (!PyArg_ParseTuple(args, "nO!n", &index, &PyTuple_Type, &offsets, &size))
+    PyObject *offsets, *owner;
+    if (!PyArg_ParseTuple(args, "OnO!n", &owner, &index, &PyTuple_Type, &offsets, &size) ||
+            !owner_of(owner))
         return NULL;
     Py_ssize_t n = PyTuple_Size(offsets);
     if (index < 0 || n < 1 || n > MAXKEY) {
@@ -248,11 +275,35 @@ static PyObject *field_bind_moving(PyObject *self, PyObject *args) {
         }
     }
     FieldData *f = DATA(self);
+    set_owner(f, owner);
     memcpy(f->key, key, sizeof(key));
     f->nkey = (int)n;
     f->index = index;
     f->kind = MOVING;
     Py_RETURN_NONE;
+}
+
+/* The owner reference, for the GC: class -> its dict -> the field -> the class. */
+static int field_traverse(PyObject *self, visitproc visit, void *arg) {
+    Py_VISIT(DATA(self)->owner);
+    Py_VISIT(Py_TYPE(self));      /* a heap type's instances visit their type */
+    return property_traverse(self, visit, arg);
+}
+
+static int field_clear(PyObject *self) {
+    DATA(self)->kind = UNBOUND;   /* unbound first: no C read without its owner */
+    Py_CLEAR(DATA(self)->owner);
+    return property_clear ? property_clear(self) : 0;
+}
+
+static void field_dealloc(PyObject *self) {
+    PyTypeObject *type = Py_TYPE(self);
+    PyObject_GC_UnTrack(self);
+    DATA(self)->kind = UNBOUND;
+    Py_CLEAR(DATA(self)->owner);
+    PyObject_GC_Track(self);      /* property's dealloc untracks it again */
+    property_dealloc(self);
+    Py_DECREF(type);
 }
 
 static PyObject *field_kind(PyObject *self, void *closure) {
@@ -267,10 +318,11 @@ static PyGetSetDef field_getset[] = {
 
 static PyMethodDef field_methods[] = {
     {"_bind_scalar", field_bind_scalar, METH_VARARGS,
-     "_bind_scalar(offset, kind, struct_size): read the scalar of `kind` at `offset`."},
+     "_bind_scalar(owner, offset, kind, struct_size): read the scalar of `kind` at "
+     "`offset` of instances of the struct class `owner`."},
     {"_bind_moving", field_bind_moving, METH_VARARGS,
-     "_bind_moving(index, key_offsets, struct_size): return Holder._dyn[index]'s view "
-     "while the words at key_offsets are as its copy."},
+     "_bind_moving(owner, index, key_offsets, struct_size): for instances of `owner`, "
+     "return Holder._dyn[index]'s view while the words at key_offsets are as its copy."},
     {NULL}
 };
 
@@ -278,13 +330,17 @@ static PyType_Slot field_slots[] = {
     {Py_tp_doc, "A property that reads its field of an mjcffi struct in C (a scalar at its "
                 "offset, or a cached view of moving memory); else its Python getter."},
     {Py_tp_descr_get, field_get},
+    {Py_tp_traverse, field_traverse},
+    {Py_tp_clear, field_clear},
+    {Py_tp_dealloc, field_dealloc},
     {Py_tp_getset, field_getset},
     {Py_tp_methods, field_methods},
     {0, NULL}
 };
 
 static PyType_Spec field_spec = {
-    "mjcffi._descriptors.Field", 0, 0, Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE, field_slots
+    "mjcffi._descriptors.Field", 0, 0,
+    Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE | Py_TPFLAGS_HAVE_GC, field_slots
 };
 
 /* ------------------------------------------------------------------ module */
@@ -309,6 +365,13 @@ PyMODINIT_FUNC PyInit__descriptors(void) {
         goto fail;
     property_size = (property_size + 7) / 8 * 8;
     property_get = (descrgetfunc)PyType_GetSlot(&PyProperty_Type, Py_tp_descr_get);
+    property_traverse = (traverseproc)PyType_GetSlot(&PyProperty_Type, Py_tp_traverse);
+    property_clear = (inquiry)PyType_GetSlot(&PyProperty_Type, Py_tp_clear);
+    property_dealloc = (destructor)PyType_GetSlot(&PyProperty_Type, Py_tp_dealloc);
+    if (property_get == NULL || property_traverse == NULL || property_dealloc == NULL) {
+        PyErr_SetString(PyExc_SystemError, "property has no get, traverse or dealloc slot");
+        goto fail;
+    }
     field_spec.basicsize = (int)(property_size + sizeof(FieldData));
 
     holder_type = (PyTypeObject *)PyType_FromSpec(&holder_spec);

@@ -273,10 +273,10 @@ def _sizing(function, ctype, field):
     not in the key (see AllocatedArray)."""
     seen = []
     function(_Probe(seen))
-    fields = dict(ctype.fields)
-    scalars = tuple(n for n in dict.fromkeys(seen) if fields[n].type.kind != "pointer")
+    fields = _field_table(ctype)           # name -> (type, offset)
+    scalars = tuple(n for n in dict.fromkeys(seen) if fields[n][0].kind != "pointer")
     size = _WORD.itemsize
-    offsets = sorted({fields[field].offset} | {fields[n].offset // size * size for n in scalars})
+    offsets = sorted({fields[field][1]} | {fields[n][1] // size * size for n in scalars})
     return offsets, scalars
 
 
@@ -318,7 +318,7 @@ class DynamicArray(Field, Array):
         Array.__init__(self, name, elem, shape, doc, fill)
         self._index = len(_DYNAMIC)
         _DYNAMIC.append(self)
-        self._sizing = None
+        self._sizing = None             # set with the key when its class binds it
 
         def set_value(obj, value):
             assign(self.__get__(obj), value, name)
@@ -329,15 +329,13 @@ class DynamicArray(Field, Array):
     def _refresh(self, obj):
         """The view as of now, made again unless its pointer and shape are unchanged,
         and recorded with a copy of its key taken before they were read."""
+        if not isinstance(obj, self._owner):      # another struct: its words mean else
+            raise AttributeError(f"{type(obj).__name__} has no field {self.name!r}")
         entries = obj._dyn
         if entries is None or len(entries) < len(_DYNAMIC):
             entries = (entries or []) + [None] * (len(_DYNAMIC) - len(entries or []))
             obj._dyn = entries
         entry, entries[self._index] = entries[self._index], None    # none stale if this raises
-        if self._sizing is None:
-            self._sizing = _sizing(self.shape, obj._ctype, self.name)
-            self._word_index = np.array(self._sizing[0]) // _WORD.itemsize
-            self._bind_moving(self._index, tuple(self._sizing[0]), ffi.sizeof(obj._ctype))
         well_formed = type(entry) is tuple and len(entry) == 4
         value, made = (entry[1], entry[3]) if well_formed else (None, None)
         copy = _words(obj)[self._word_index].tobytes()      # before reading what it defines
@@ -353,6 +351,12 @@ class DynamicArray(Field, Array):
         entries[self._index] = (copy if self._told(obj) else None, value,
                                 value.copy if fresh else False, (pointer, shape))
         return value.copy() if fresh else value
+
+    def _bind(self, cls):
+        """Check the key in C for instances of struct class `cls` (see _sizing)."""
+        self._owner, self._sizing = cls, _sizing(self.shape, cls._ctype, self.name)
+        self._word_index = np.array(self._sizing[0]) // _WORD.itemsize
+        self._bind_moving(cls, self._index, tuple(self._sizing[0]), ffi.sizeof(cls._ctype))
 
     def _shape(self, obj):
         return self.shape(obj)
@@ -786,16 +790,17 @@ class StructType(type):
     `dir(cls)` also lists the `_eager` fields (MjData.qpos, ...: built when an
     instance is wrapped, and kept in slots of the generated class), as the official
     classes do: wrappers that build properties from `dir(mujoco.MjData)` find them.
-    Attribute access never passes through here, so the hot path pays nothing.
+    A generated class (one with a `_ctype`) binds its fields (Scalar, DynamicArray)
+    to itself when it is made: their C get reads only its instances.  Attribute
+    access never passes through here, so the hot path pays nothing.
     """
 
     def __init__(cls, name, bases, namespace, **kwargs):
         super().__init__(name, bases, namespace, **kwargs)
-        ctype = namespace.get("_ctype")
-        if ctype is not None:            # a generated class: its scalars read in C
+        if namespace.get("_ctype") is not None:   # a generated class: its fields read in C
             for value in namespace.values():
-                if type(value) is Scalar and not value._kind:
-                    value._bind(ctype)
+                if isinstance(value, Field) and not value._kind:
+                    value._bind(cls)
 
     def __dir__(cls):
         return sorted(set(super().__dir__()) | set(cls._eager))
@@ -1033,12 +1038,13 @@ class Scalar(Field):
         property.__init__(self, fget, fset, None, doc)
         self.field, self.__doc__ = field, doc
 
-    def _bind(self, ctype):
-        """Read the field in C from now on, at its offset in struct type `ctype`."""
-        found = _field_at(ctype, self.field)
+    def _bind(self, cls):
+        """Read the field in C from now on, for instances of struct class `cls`, at its
+        offset in their struct type."""
+        found = _field_at(cls._ctype, self.field)
         kind = found and _scalar_kind(found[0])
         if kind:
-            self._bind_scalar(found[1], kind, ffi.sizeof(ctype))
+            self._bind_scalar(cls, found[1], kind, ffi.sizeof(cls._ctype))
 
 
 def _field_at(ctype, name):
